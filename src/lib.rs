@@ -1,0 +1,20 @@
+//! Articulated progressive meshes for skinned glTF characters, and a browser viewer that compares
+//! level-of-detail transitions (popping, alpha-blending, geomorphing) on them.
+//!
+//! The core — [`import`], [`skeleton`], [`animation`], [`skinning`] — has no GPU and no DOM
+//! dependency: it builds and tests natively and on `wasm32-unknown-unknown`. The `js` feature adds
+//! the wasm-bindgen API used by the page and by node; the `web` feature adds the renderer.
+//!
+//! Conventions: right-handed, metres (whatever the file uses), column vectors, matrices named
+//! `a_from_b` (they map points of space `b` into space `a`), glTF's parent-first node order.
+
+pub mod animation;
+pub mod character;
+pub mod mesh;
+pub mod skeleton;
+pub mod skinning;
+
+pub use animation::{Clip, Wrap};
+pub use character::Character;
+pub use mesh::SkinnedMesh;
+pub use skeleton::{Pose, Skeleton};
