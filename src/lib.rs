@@ -11,6 +11,7 @@
 pub mod animation;
 pub mod character;
 pub mod mesh;
+pub mod metrics;
 pub mod skeleton;
 pub mod skinning;
 
