@@ -10,10 +10,12 @@
 
 pub mod animation;
 pub mod character;
+pub mod clod;
 pub mod mesh;
 pub mod metrics;
 pub mod skeleton;
 pub mod skinning;
+pub mod vertex_cache;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
