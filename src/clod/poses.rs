@@ -130,7 +130,7 @@ mod tests {
     fn frames_average_rather_than_add() {
         let bind = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let id = vec![Mat4::IDENTITY; 3];
-        let one = pulled_back_quadrics(&bind, &[0, 1, 2], &id, &[id.clone()]);
+        let one = pulled_back_quadrics(&bind, &[0, 1, 2], &id, std::slice::from_ref(&id));
         let two = pulled_back_quadrics(&bind, &[0, 1, 2], &id, &[id.clone(), id.clone()]);
         let p = Vec3::new(0.1, 0.2, 0.7);
         assert!((quadric_error(&one[1], p) - quadric_error(&two[1], p)).abs() < 1e-12);
