@@ -10,11 +10,13 @@
 
 pub mod animation;
 pub mod character;
+pub mod import;
 pub mod mesh;
 pub mod skeleton;
 pub mod skinning;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
+pub use import::ImportError;
 pub use mesh::SkinnedMesh;
 pub use skeleton::{Pose, Skeleton};
