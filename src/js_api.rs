@@ -132,3 +132,45 @@ impl Character {
 fn flatten(v: &[glam::Vec3]) -> Vec<f32> {
     v.iter().flat_map(|p| p.to_array()).collect()
 }
+
+/// Symmetric surface distance between two triangle meshes (xyz positions, triangle indices),
+/// from `samples` seeded points on each: `{ mean, hausdorff }` in model units.
+///
+/// Throws when indices are out of range or either mesh has no area.
+#[wasm_bindgen(js_name = surfaceDistance)]
+pub fn surface_distance(
+    positions_a: &[f32],
+    indices_a: &[u32],
+    positions_b: &[f32],
+    indices_b: &[u32],
+    samples: u32,
+    seed: u32,
+) -> Result<js_sys::Object, JsError> {
+    let a = checked_mesh(positions_a, indices_a, "first")?;
+    let b = checked_mesh(positions_b, indices_b, "second")?;
+    let d = crate::metrics::surface_distance((&a, indices_a), (&b, indices_b), samples as usize, seed as u64)
+        .ok_or_else(|| JsError::new("surfaceDistance: a mesh has no triangle of positive area"))?;
+    let out = js_sys::Object::new();
+    js_sys::Reflect::set(&out, &"mean".into(), &f64::from(d.mean).into()).map_err(|_| JsError::new("Reflect.set"))?;
+    js_sys::Reflect::set(&out, &"hausdorff".into(), &f64::from(d.hausdorff).into())
+        .map_err(|_| JsError::new("Reflect.set"))?;
+    Ok(out)
+}
+
+/// Length of the bounding-box diagonal of xyz `positions`.
+#[wasm_bindgen(js_name = boundsDiagonal)]
+pub fn bounds_diagonal(positions: &[f32]) -> f64 {
+    let points: Vec<glam::Vec3> = positions.chunks_exact(3).map(glam::Vec3::from_slice).collect();
+    crate::metrics::bounds_diagonal(&points) as f64
+}
+
+fn checked_mesh(positions: &[f32], indices: &[u32], which: &str) -> Result<Vec<glam::Vec3>, JsError> {
+    if positions.len() % 3 != 0 || indices.len() % 3 != 0 {
+        return Err(JsError::new(&format!("surfaceDistance: the {which} mesh's arrays are not xyz / triangle lists")));
+    }
+    let count = positions.len() / 3;
+    if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
+        return Err(JsError::new(&format!("surfaceDistance: the {which} mesh has index {bad} but {count} vertices")));
+    }
+    Ok(positions.chunks_exact(3).map(glam::Vec3::from_slice).collect())
+}
