@@ -26,7 +26,8 @@ fn step_holds_the_earlier_key() {
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn linear_vectors_interpolate_and_clamp() {
-    let c = Curve::new(vec![1.0, 3.0], vec![Vec3::ZERO, Vec3::new(4.0, 8.0, -2.0)], Interpolation::Linear).unwrap();
+    let c = Curve::new(vec![1.0, 3.0], vec![Vec3::ZERO, Vec3::new(4.0, 8.0, -2.0)], Interpolation::Linear)
+        .unwrap();
     assert_eq!(c.sample(1.0), Vec3::ZERO);
     assert_eq!(c.sample(1.5), Vec3::new(1.0, 2.0, -0.5));
     assert_eq!(c.sample(2.0), Vec3::new(2.0, 4.0, -1.0));
@@ -89,7 +90,10 @@ fn invalid_curves_are_rejected() {
         Curve::new(vec![0.0, 1.0], vec![v(0.0), v(1.0)], Interpolation::CubicSpline),
         Err(CurveError::CountMismatch { times: 2, values: 2, expected: 6 })
     );
-    assert_eq!(Curve::new(vec![0.0], vec![v(f32::NAN)], Interpolation::Step), Err(CurveError::NonFiniteValue));
+    assert_eq!(
+        Curve::new(vec![0.0], vec![v(f32::NAN)], Interpolation::Step),
+        Err(CurveError::NonFiniteValue)
+    );
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
