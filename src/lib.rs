@@ -11,10 +11,14 @@
 pub mod animation;
 pub mod character;
 pub mod mesh;
+pub mod progressive;
 pub mod skeleton;
+pub mod simplify;
 pub mod skinning;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
 pub use mesh::SkinnedMesh;
+pub use progressive::{PmCursor, ProgressiveMesh};
+pub use simplify::{simplify, CollapseMode, SimplifyInput, SimplifyOptions};
 pub use skeleton::{Pose, Skeleton};
