@@ -14,7 +14,9 @@ pub mod clod;
 pub mod import;
 pub mod mesh;
 pub mod metrics;
+pub mod progressive;
 pub mod skeleton;
+pub mod simplify;
 pub mod skinning;
 pub mod vertex_cache;
 
@@ -25,4 +27,6 @@ pub use animation::{Clip, Wrap};
 pub use character::Character;
 pub use import::ImportError;
 pub use mesh::SkinnedMesh;
+pub use progressive::{PmCursor, ProgressiveMesh};
+pub use simplify::{simplify, CollapseMode, SimplifyInput, SimplifyOptions};
 pub use skeleton::{Pose, Skeleton};
