@@ -15,8 +15,8 @@ pub mod import;
 pub mod mesh;
 pub mod metrics;
 pub mod progressive;
-pub mod skeleton;
 pub mod simplify;
+pub mod skeleton;
 pub mod skinning;
 pub mod vertex_cache;
 

@@ -164,7 +164,11 @@ impl<'a> Engine<'a> {
             }
             None => {
                 for t in 0..triangle_count {
-                    let q = Quadric::from_triangle(corner_point(3 * t), corner_point(3 * t + 1), corner_point(3 * t + 2));
+                    let q = Quadric::from_triangle(
+                        corner_point(3 * t),
+                        corner_point(3 * t + 1),
+                        corner_point(3 * t + 2),
+                    );
                     for k in 0..3 {
                         geometric[classes.class_of[indices[3 * t + k] as usize] as usize] += &q;
                     }
@@ -199,9 +203,11 @@ impl<'a> Engine<'a> {
         if m > 0 {
             for t in 0..triangle_count {
                 let corners = [3 * t, 3 * t + 1, 3 * t + 2];
-                let Some(frame) =
-                    TriangleFrame::new(corner_point(corners[0]), corner_point(corners[1]), corner_point(corners[2]))
-                else {
+                let Some(frame) = TriangleFrame::new(
+                    corner_point(corners[0]),
+                    corner_point(corners[1]),
+                    corner_point(corners[2]),
+                ) else {
                     continue;
                 };
                 for corner in corners {
@@ -477,14 +483,19 @@ impl<'a> Engine<'a> {
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
             let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
-            let sums = |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
+            let sums =
+                |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
             let alpha = sums(wv, 0) + sums(wu, 0);
             for (j, &w) in self.weights.iter().enumerate() {
                 if w <= 0.0 {
                     continue;
                 }
                 let k = 1 + 4 * j;
-                let g = DVec3::new(sums(wv, k) + sums(wu, k), sums(wv, k + 1) + sums(wu, k + 1), sums(wv, k + 2) + sums(wu, k + 2));
+                let g = DVec3::new(
+                    sums(wv, k) + sums(wu, k),
+                    sums(wv, k + 1) + sums(wu, k + 1),
+                    sums(wv, k + 2) + sums(wu, k + 2),
+                );
                 let d = sums(wv, k + 3) + sums(wu, k + 3);
                 let aw = alpha * w as f64;
                 if optimal {
@@ -626,14 +637,20 @@ impl<'a> Engine<'a> {
         }
         for corner in self.lists.iter(u) {
             let (n, p) = other_corners(corner);
-            if self.class_at(n) != v && self.class_at(p) != v && !self.triangle_ok(corner as usize / 3, u, plan.p) {
+            if self.class_at(n) != v
+                && self.class_at(p) != v
+                && !self.triangle_ok(corner as usize / 3, u, plan.p)
+            {
                 return false;
             }
         }
         if plan.p != self.position[v as usize] {
             for corner in self.lists.iter(v) {
                 let (n, p) = other_corners(corner);
-                if self.class_at(n) != u && self.class_at(p) != u && !self.triangle_ok(corner as usize / 3, v, plan.p) {
+                if self.class_at(n) != u
+                    && self.class_at(p) != u
+                    && !self.triangle_ok(corner as usize / 3, v, plan.p)
+                {
                     return false;
                 }
             }
@@ -666,11 +683,19 @@ impl<'a> Engine<'a> {
         let pv = self.position[vi];
         let pu = self.position[ui];
         let edge = pu - pv;
-        let t = if edge.length_squared() > 0.0 { ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if edge.length_squared() > 0.0 {
+            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         for (iv, k) in v_range.clone().enumerate() {
             let wv = self.classes.wedges[k] as usize;
             let partner = self.v_partner[iv];
-            let wu = if partner == NONE { usize::MAX } else { self.classes.wedges[u_range.start + partner as usize] as usize };
+            let wu = if partner == NONE {
+                usize::MAX
+            } else {
+                self.classes.wedges[u_range.start + partner as usize] as usize
+            };
             if wu == usize::MAX && !moved {
                 continue;
             }
@@ -687,7 +712,11 @@ impl<'a> Engine<'a> {
                     own
                 } else if w > 0.0 && alpha_w > 0.0 {
                     let base = wv * stride + 1 + 4 * j;
-                    let g = DVec3::new(self.wedge_sums[base], self.wedge_sums[base + 1], self.wedge_sums[base + 2]);
+                    let g = DVec3::new(
+                        self.wedge_sums[base],
+                        self.wedge_sums[base + 1],
+                        self.wedge_sums[base + 2],
+                    );
                     ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
                 } else if wu != usize::MAX {
                     let other = self.wedge_attributes[wu * m + j];

@@ -79,7 +79,11 @@ impl Quadric {
     /// `A p`.
     fn a_times(&self, p: DVec3) -> DVec3 {
         let [xx, xy, xz, yy, yz, zz] = self.a;
-        DVec3::new(xx * p.x + xy * p.y + xz * p.z, xy * p.x + yy * p.y + yz * p.z, xz * p.x + yz * p.y + zz * p.z)
+        DVec3::new(
+            xx * p.x + xy * p.y + xz * p.z,
+            xy * p.x + yy * p.y + yz * p.z,
+            xz * p.x + yz * p.y + zz * p.z,
+        )
     }
 
     /// The raw (weighted, not normalised) error `Q(p)`. Rounding can make it slightly negative.

@@ -330,11 +330,8 @@ mod tests {
 
     fn kinds_of(positions: &[Vec3], indices: &[u32], materials: &[u32]) -> Vec<Kind> {
         let classes = position_classes(positions, indices);
-        let lists = CornerLists::new(
-            |k| classes.class_of[indices[k] as usize],
-            indices.len(),
-            classes.count(),
-        );
+        let lists =
+            CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), classes.count());
         classify(&classes, &lists, indices, materials).0
     }
 
