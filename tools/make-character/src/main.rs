@@ -74,9 +74,14 @@ fn render_all(loaded: &validate::Loaded, dir: &Path) -> Result<(), String> {
             None => loaded.skeleton.rest_pose(),
         };
         let (positions, normals) = validate::skin(loaded, &pose);
-        let image = render::render(loaded, &positions, &normals, frame);
+        let image = render::render(loaded, &positions, &normals, frame, &render::THREE_VIEWS);
         render::write_png(&dir.join(format!("{stem}.png")), &image)?;
     }
+    // The picture for assets/README.md: bind pose, front view only.
+    let rest = loaded.skeleton.rest_pose();
+    let (positions, normals) = validate::skin(loaded, &rest);
+    let image = render::render(loaded, &positions, &normals, render::Frame::FULL, &[0.0]);
+    render::write_png(&dir.join("character-front.png"), &image)?;
     Ok(())
 }
 

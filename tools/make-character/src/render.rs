@@ -1,7 +1,7 @@
 //! A small CPU rasterizer for looking at the character: orthographic views, z-buffer, Lambert
 //! shading with an ambient term, colour = material base colour × vertex colour.
 //!
-//! Each image shows three views side by side (front, three-quarter, left side), rendered at twice
+//! An image shows one or more views side by side (usually front, three-quarter, left side), rendered at twice
 //! the output resolution and box-filtered down. Views turn the model about +Y; screen x is the
 //! turned model's +X, screen y its +Y, and larger z is nearer the viewer. Output is 8-bit sRGB PNG.
 
@@ -29,8 +29,9 @@ impl Frame {
     pub const FULL: Frame = Frame { center: Vec3::new(0.0, 0.98, 0.0), height: 2.2 };
 }
 
-/// Turn angles of the three views, in degrees about +Y (0 = front, -90 = the character's left).
-const VIEWS: [f32; 3] = [0.0, -35.0, -90.0];
+/// Turn angles of the usual three views, in degrees about +Y (0 = front, -90 = the character's
+/// left side).
+pub const THREE_VIEWS: [f32; 3] = [0.0, -35.0, -90.0];
 
 fn linear_to_srgb(x: f32) -> u8 {
     let x = x.clamp(0.0, 1.0);
@@ -38,14 +39,16 @@ fn linear_to_srgb(x: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
-/// Renders `positions`/`normals` (skinned or bind) of `loaded` into an RGB image of three views.
+/// Renders `positions`/`normals` (skinned or bind) of `loaded` into an RGB image with one view
+/// per turn angle in `views` (degrees), side by side.
 pub fn render(
     loaded: &Loaded,
     positions: &[Vec3],
     normals: &[Vec3],
     frame: Frame,
+    views: &[f32],
 ) -> (usize, usize, Vec<u8>) {
-    let (w, h) = (VIEW * VIEWS.len(), VIEW);
+    let (w, h) = (VIEW * views.len(), VIEW);
     let (sw, sh) = (w * SS, h * SS);
     let background = Vec3::new(0.85, 0.87, 0.9);
     let mut color = vec![background; sw * sh];
@@ -55,7 +58,7 @@ pub fn render(
     let light = Vec3::new(-0.4, 0.6, 0.7).normalize();
     const AMBIENT: f32 = 0.3;
 
-    for (view, &angle) in VIEWS.iter().enumerate() {
+    for (view, &angle) in views.iter().enumerate() {
         let turn = Quat::from_rotation_y(angle.to_radians());
         let x0 = (view * VIEW * SS) as f32 + 0.5 * (VIEW * SS) as f32;
         let project = |p: Vec3| {
