@@ -10,11 +10,19 @@
 
 pub mod animation;
 pub mod character;
+pub mod clod;
+pub mod import;
 pub mod mesh;
+pub mod metrics;
 pub mod skeleton;
 pub mod skinning;
+pub mod vertex_cache;
+
+#[cfg(feature = "js")]
+pub mod js_api;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
+pub use import::ImportError;
 pub use mesh::SkinnedMesh;
 pub use skeleton::{Pose, Skeleton};
