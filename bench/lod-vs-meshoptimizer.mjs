@@ -8,10 +8,12 @@
 //     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last);
 //  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
 //     diagonal, same seed and sample count for both);
-//  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, clip-frame
-//     and multi-pose simplification;
-//  4. the native build time, when `cargo run --release --example clod_timing` has written it (see README).
+//  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
+//     and mid-clip (the default: the middle frame of the first clip) simplification;
+//  4. the native build time of the same build (`cargo run --release --example clod_timing`, run from here).
 import { readFileSync, existsSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { fileURLToPath } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api, modelBytes } from '../tests/js/models.mjs';
 
@@ -61,13 +63,23 @@ function timeIt(fn, repeats = 3) {
 }
 
 function models() {
-  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb'].map((f) => [f, modelBytes(f)]);
-  const builtin = new URL('../assets/character.glb', import.meta.url);
-  if (existsSync(builtin)) list.push(['character.glb (built-in)', new Uint8Array(readFileSync(builtin))]);
+  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']
+    .map((f) => [f, modelBytes(f), fileURLToPath(new URL(`../../shared/models/${f}`, import.meta.url))]);
+  const builtin = fileURLToPath(new URL('../assets/character.glb', import.meta.url));
+  if (existsSync(builtin)) list.push(['character.glb (built-in)', new Uint8Array(readFileSync(builtin)), builtin]);
   return list.filter(([, bytes]) => bytes);
 }
 
-for (const [name, bytes] of models()) {
+/** Native build times (ms) of the same builds, from examples/clod_timing.rs, keyed by file path. */
+function nativeTimes(paths) {
+  const out = execFileSync('cargo', ['run', '--release', '--quiet', '--example', 'clod_timing', '--', ...paths], { encoding: 'utf8' });
+  return Object.fromEntries(out.trim().split('\n').map((line) => JSON.parse(line)).map((r) => [r.file, r.ms]));
+}
+
+const list = models();
+const native = nativeTimes(list.map(([, , path]) => path));
+
+for (const [name, bytes, path] of list) {
   const character = api.Character.fromGlb(bytes);
   const indices = character.indices();
   const positions = character.bindPositions();
@@ -78,18 +90,22 @@ for (const [name, bytes] of models()) {
 
   const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded, positions, counts, false));
   const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
-  const [clod, oursMs] = timeIt(() => character.buildClod({ levels: counts }), 2);
+  // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
+  // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
+  const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }), 2);
+  const clod = character.buildClod({ levels: counts, pose: 'bind' });
 
   console.log(`\n## ${name}: ${full} triangles, ${character.vertexCount} vertices, ${character.jointCount} joints`);
   console.log(`build: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms ` +
-    `(independent ${meshoptIndependentMs.toFixed(1)} ms): ratio ours/chain = ${(oursMs / meshoptChainMs).toFixed(2)}`);
+    `(independent ${meshoptIndependentMs.toFixed(1)} ms): ratio ours/chain = ${(oursMs / meshoptChainMs).toFixed(2)}; ` +
+    `ours native ${native[path].toFixed(1)} ms (wasm/native ${(oursMs / native[path]).toFixed(2)})`);
 
   console.log('| level | tris ours | tris meshopt | mean ours % | mean meshopt % | ratio | hausdorff ours % | hausdorff meshopt % |');
   console.log('|---|---|---|---|---|---|---|---|');
   for (let i = 0; i < counts.length; i++) {
     const ours = clod.meshAt(counts[i]);
     const theirs = meshopt[i];
-    const dOurs = api.surfaceDistance(positions, indices, clod.bindPositionsAt(counts[i]), ours.indices, SAMPLES, SEED);
+    const dOurs = api.surfaceDistance(positions, indices, ours.bindPositions, ours.indices, SAMPLES, SEED);
     const dTheirs = api.surfaceDistance(positions, indices, positions, theirs, SAMPLES, SEED);
     console.log(`| ${FRACTIONS[i] * 100}% | ${ours.indices.length / 3} | ${theirs.length / 3} | ${pct(dOurs.mean, diag)} | ` +
       `${pct(dTheirs.mean, diag)} | ${(dOurs.mean / dTheirs.mean).toFixed(2)} | ${pct(dOurs.hausdorff, diag)} | ${pct(dTheirs.hausdorff, diag)} |`);
@@ -97,9 +113,7 @@ for (const [name, bytes] of models()) {
   clod.free();
 
   // Animated error: each pose choice, every level vs the full mesh skinned at the same frames.
-  const poses = { bind: 'bind', multi: 'multi' };
-  const firstClip = character.clipNames[0];
-  if (firstClip) poses['clip-frame'] = { clip: firstClip, time: character.clipDuration(firstClip) / 2 };
+  const poses = { bind: 'bind', multi: 'multi', 'mid-clip': 'mid-clip' };
   const animated = {};
   for (const [label, pose] of Object.entries(poses)) {
     const built = character.buildClod({ pose, levels: counts });

@@ -127,7 +127,8 @@ impl Character {
 
     /// Builds the articulated progressive mesh and its discrete levels.
     ///
-    /// `options` (all optional): `pose`: `'bind'`, `'multi'` (default) or `{ clip, time }`;
+    /// `options` (all optional): `pose`: `'mid-clip'` (default: the middle of the first clip),
+    /// `'bind'`, `'multi'` (quadrics over frames of every clip) or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
     /// `onProgress(fraction)`: called with fractions from 0 to 1.
     ///
@@ -275,10 +276,13 @@ fn parse_clod_options(
     if let Some(name) = pose.as_string() {
         out.pose = match name.as_str() {
             "bind" => SimplificationPose::Bind,
-            "multi" => out.pose,
+            "multi" => {
+                SimplificationPose::MultiPose { frames_per_clip: clod::poses::DEFAULT_FRAMES_PER_CLIP }
+            }
+            "mid-clip" => SimplificationPose::MidClip,
             other => {
                 return Err(JsError::new(&format!(
-                    "pose must be 'bind', 'multi' or {{ clip, time }}, got {other:?}"
+                    "pose must be 'bind', 'multi', 'mid-clip' or {{ clip, time }}, got {other:?}"
                 )))
             }
         };
@@ -293,7 +297,7 @@ fn parse_clod_options(
         }
         out.pose = SimplificationPose::ClipFrame { clip, time: time as f32 };
     } else if !pose.is_undefined() {
-        return Err(JsError::new("pose must be 'bind', 'multi' or { clip, time }"));
+        return Err(JsError::new("pose must be 'bind', 'multi', 'mid-clip' or { clip, time }"));
     }
     let levels = get("levels");
     if !levels.is_undefined() {

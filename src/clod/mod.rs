@@ -38,11 +38,7 @@ pub struct ClodOptions {
 
 impl Default for ClodOptions {
     fn default() -> Self {
-        Self {
-            pose: SimplificationPose::MultiPose { frames_per_clip: poses::DEFAULT_FRAMES_PER_CLIP },
-            level_triangles: None,
-            mode: CollapseMode::Full,
-        }
+        Self { pose: SimplificationPose::MidClip, level_triangles: None, mode: CollapseMode::Full }
     }
 }
 
@@ -145,7 +141,9 @@ pub fn build(
         None => mesh.normals.clone(),
     };
     let vertex_quadrics = match &options.pose {
-        SimplificationPose::MultiPose { frames_per_clip } => multi_pose_quadrics(character, *frames_per_clip),
+        SimplificationPose::MultiPose { frames_per_clip } => {
+            multi_pose_quadrics(character, *frames_per_clip, p0_matrices.as_deref())
+        }
         _ => None,
     };
     progress(0.15);
@@ -189,6 +187,10 @@ fn p0_skin_matrices(
 ) -> Result<Option<Vec<Mat4>>, ClodError> {
     match pose {
         SimplificationPose::Bind | SimplificationPose::MultiPose { .. } => Ok(None),
+        SimplificationPose::MidClip => Ok(character
+            .clips
+            .first()
+            .map(|clip| character.skin_matrices(&character.pose_at(clip, clip.duration() * 0.5)))),
         SimplificationPose::ClipFrame { clip, time } => {
             if !time.is_finite() {
                 return Err(ClodError::BadTime(*time));
@@ -204,17 +206,29 @@ fn p0_skin_matrices(
 
 /// Plane quadrics averaged over frames of every clip, in bind space (`P0` of multi-pose); `None`
 /// when the character has no clip, so the simplifier uses the bind pose's own planes.
-fn multi_pose_quadrics(character: &Character, frames_per_clip: usize) -> Option<Vec<Quadric>> {
+fn multi_pose_quadrics(
+    character: &Character,
+    frames_per_clip: usize,
+    p0_matrices: Option<&[Mat4]>,
+) -> Option<Vec<Quadric>> {
     let frames = poses::multi_pose_frames(character, frames_per_clip);
     if frames.is_empty() {
         return None;
     }
+    let p0_inverse: Option<Vec<Mat4>> = p0_matrices.map(|m| m.iter().map(Mat4::inverse).collect());
     let mesh = &character.mesh;
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
     let weight = 1.0 / frames.len() as f64;
     for skin in &frames {
         let matrices = poses::vertex_matrices(character, skin);
-        poses::add_frame_quadrics(&mut quadrics, &mesh.positions, &mesh.indices, None, &matrices, weight);
+        poses::add_frame_quadrics(
+            &mut quadrics,
+            &mesh.positions,
+            &mesh.indices,
+            p0_inverse.as_deref(),
+            &matrices,
+            weight,
+        );
     }
     Some(quadrics)
 }
@@ -222,19 +236,21 @@ fn multi_pose_quadrics(character: &Character, frames_per_clip: usize) -> Option<
 /// Attribute channels and their weights. A weight converts attribute units² into position
 /// units² (see [`SimplifyInput::attribute_weights`]), so each is a squared length relative to the
 /// model's size `d` (bounding-box diagonal):
-/// - normals: a unit normal difference (60°) costs like a `d / 50` displacement — shading
-///   matters, but never more than the silhouette;
-/// - uv: a full texture width costs like `d / 10`; seams are kept by topology anyway;
-/// - colour: a full channel swing costs like `d / 50`, as normals.
+/// - normals: a unit normal difference (60°) costs like a `d / 200` displacement: enough to
+///   steer collapses on flat-ish regions, small enough that geometry decides elsewhere. Measured
+///   on the built-in character, `d / 50` raised the bind-pose error of every level by 30-60 %
+///   (bench/lod-vs-meshoptimizer.mjs) for no visible shading gain;
+/// - uv: a full texture width costs like `d / 40`; seams are kept by topology anyway;
+/// - colour: a full channel swing costs like `d / 200`, as normals.
 fn attribute_layout(character: &Character, positions: &[Vec3]) -> AttributeLayout {
     let d = crate::metrics::bounds_diagonal(positions).max(f32::MIN_POSITIVE);
-    let mut weights = vec![(d / 50.0).powi(2); 3];
+    let mut weights = vec![(d / 200.0).powi(2); 3];
     let uv = character.mesh.uvs.as_ref().map(|_| {
-        weights.extend([(d / 10.0).powi(2); 2]);
+        weights.extend([(d / 40.0).powi(2); 2]);
         weights.len() - 2
     });
     let color = character.mesh.colors.as_ref().map(|_| {
-        weights.extend([(d / 50.0).powi(2); 4]);
+        weights.extend([(d / 200.0).powi(2); 4]);
         weights.len() - 4
     });
     AttributeLayout { uv, color, weights }
