@@ -12,8 +12,8 @@ pub mod animation;
 pub mod character;
 pub mod mesh;
 pub mod progressive;
-pub mod skeleton;
 pub mod simplify;
+pub mod skeleton;
 pub mod skinning;
 
 pub use animation::{Clip, Wrap};

@@ -351,7 +351,9 @@ impl<'a> PmCursor<'a> {
         let pm = self.pm;
         while self.level < k {
             let record = &pm.collapses[self.level];
-            for change in &pm.corner_changes[record.corner_changes_start as usize..record.corner_changes_end as usize] {
+            for change in
+                &pm.corner_changes[record.corner_changes_start as usize..record.corner_changes_end as usize]
+            {
                 self.corner_slots[change.corner as usize] = change.to_slot;
             }
             for x in record.first_new_vertex..record.first_new_vertex + record.new_vertex_count {
@@ -365,8 +367,10 @@ impl<'a> PmCursor<'a> {
             for x in (record.first_new_vertex..record.first_new_vertex + record.new_vertex_count).rev() {
                 self.slot_vertex[pm.vertex_slot[x as usize] as usize] = pm.survivor_source[x as usize];
             }
-            for change in
-                pm.corner_changes[record.corner_changes_start as usize..record.corner_changes_end as usize].iter().rev()
+            for change in pm.corner_changes
+                [record.corner_changes_start as usize..record.corner_changes_end as usize]
+                .iter()
+                .rev()
             {
                 self.corner_slots[change.corner as usize] = change.from_slot;
             }

@@ -5,12 +5,16 @@
 //! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
 //! along it), so seams stay closed. Placement ([`Placement`]): interior–interior edges get the
 //! quadric minimiser, line–line edges (along a border, seam or material line) the best point of
-//! the edge, everything else (and every half-edge collapse) keeps `v`'s position.
+//! the edge, everything else (corners, locked vertices, and every half-edge collapse) keeps `v`'s
+//! position.
 //!
 //! The queue is a binary heap keyed by (cost, u, v) — a total order, so the collapse sequence is
 //! deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
 //! check marks both ends *parked*; when a later collapse changes a parked class's neighbourhood,
 //! its edges are queued again.
+
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::quadric::{Quadric, TriangleFrame};
 use super::topology::{
@@ -140,7 +144,7 @@ impl<'a> Engine<'a> {
         let classes = position_classes(positions, indices);
         let class_count = classes.count();
         let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
-        let (kind, sides) = classify(&classes, &lists, indices, input.triangle_materials);
+        let (kind, sides) = classify(&classes, positions, &lists, indices, input.triangle_materials);
         let position: Vec<DVec3> =
             classes.representative.iter().map(|&v| positions[v as usize].as_dvec3()).collect();
         let corner_point = |corner: usize| positions[indices[corner] as usize].as_dvec3();
@@ -164,7 +168,11 @@ impl<'a> Engine<'a> {
             }
             None => {
                 for t in 0..triangle_count {
-                    let q = Quadric::from_triangle(corner_point(3 * t), corner_point(3 * t + 1), corner_point(3 * t + 2));
+                    let q = Quadric::from_triangle(
+                        corner_point(3 * t),
+                        corner_point(3 * t + 1),
+                        corner_point(3 * t + 2),
+                    );
                     for k in 0..3 {
                         geometric[classes.class_of[indices[3 * t + k] as usize] as usize] += &q;
                     }
@@ -199,9 +207,11 @@ impl<'a> Engine<'a> {
         if m > 0 {
             for t in 0..triangle_count {
                 let corners = [3 * t, 3 * t + 1, 3 * t + 2];
-                let Some(frame) =
-                    TriangleFrame::new(corner_point(corners[0]), corner_point(corners[1]), corner_point(corners[2]))
-                else {
+                let Some(frame) = TriangleFrame::new(
+                    corner_point(corners[0]),
+                    corner_point(corners[1]),
+                    corner_point(corners[2]),
+                ) else {
                     continue;
                 };
                 for corner in corners {
@@ -443,7 +453,7 @@ impl<'a> Engine<'a> {
         constraint |= edge_triangles == 1;
         let ku = self.kind[ui];
         let kv = self.kind[vi];
-        if ku == Kind::Line && !constraint {
+        if ku.on_line() && !constraint {
             return None; // a line vertex only slides along its line
         }
         // Every used wedge of u needs its own wedge of v: no seam opens or closes.
@@ -477,14 +487,19 @@ impl<'a> Engine<'a> {
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
             let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
-            let sums = |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
+            let sums =
+                |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
             let alpha = sums(wv, 0) + sums(wu, 0);
             for (j, &w) in self.weights.iter().enumerate() {
                 if w <= 0.0 {
                     continue;
                 }
                 let k = 1 + 4 * j;
-                let g = DVec3::new(sums(wv, k) + sums(wu, k), sums(wv, k + 1) + sums(wu, k + 1), sums(wv, k + 2) + sums(wu, k + 2));
+                let g = DVec3::new(
+                    sums(wv, k) + sums(wu, k),
+                    sums(wv, k + 1) + sums(wu, k + 1),
+                    sums(wv, k + 2) + sums(wu, k + 2),
+                );
                 let d = sums(wv, k + 3) + sums(wu, k + 3);
                 let aw = alpha * w as f64;
                 if optimal {
@@ -616,7 +631,7 @@ impl<'a> Engine<'a> {
                 return false;
             }
         }
-        if self.kind[u as usize] == Kind::Line {
+        if self.kind[u as usize].on_line() {
             for &x in &opposite[..count] {
                 // Two constraint edges of one triangle would merge into one.
                 if self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
@@ -626,14 +641,20 @@ impl<'a> Engine<'a> {
         }
         for corner in self.lists.iter(u) {
             let (n, p) = other_corners(corner);
-            if self.class_at(n) != v && self.class_at(p) != v && !self.triangle_ok(corner as usize / 3, u, plan.p) {
+            if self.class_at(n) != v
+                && self.class_at(p) != v
+                && !self.triangle_ok(corner as usize / 3, u, plan.p)
+            {
                 return false;
             }
         }
         if plan.p != self.position[v as usize] {
             for corner in self.lists.iter(v) {
                 let (n, p) = other_corners(corner);
-                if self.class_at(n) != u && self.class_at(p) != u && !self.triangle_ok(corner as usize / 3, v, plan.p) {
+                if self.class_at(n) != u
+                    && self.class_at(p) != u
+                    && !self.triangle_ok(corner as usize / 3, v, plan.p)
+                {
                     return false;
                 }
             }
@@ -666,11 +687,19 @@ impl<'a> Engine<'a> {
         let pv = self.position[vi];
         let pu = self.position[ui];
         let edge = pu - pv;
-        let t = if edge.length_squared() > 0.0 { ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if edge.length_squared() > 0.0 {
+            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         for (iv, k) in v_range.clone().enumerate() {
             let wv = self.classes.wedges[k] as usize;
             let partner = self.v_partner[iv];
-            let wu = if partner == NONE { usize::MAX } else { self.classes.wedges[u_range.start + partner as usize] as usize };
+            let wu = if partner == NONE {
+                usize::MAX
+            } else {
+                self.classes.wedges[u_range.start + partner as usize] as usize
+            };
             if wu == usize::MAX && !moved {
                 continue;
             }
@@ -687,7 +716,11 @@ impl<'a> Engine<'a> {
                     own
                 } else if w > 0.0 && alpha_w > 0.0 {
                     let base = wv * stride + 1 + 4 * j;
-                    let g = DVec3::new(self.wedge_sums[base], self.wedge_sums[base + 1], self.wedge_sums[base + 2]);
+                    let g = DVec3::new(
+                        self.wedge_sums[base],
+                        self.wedge_sums[base + 1],
+                        self.wedge_sums[base + 2],
+                    );
                     ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
                 } else if wu != usize::MAX {
                     let other = self.wedge_attributes[wu * m + j];

@@ -110,7 +110,9 @@ pub enum SimplifyError {
     TooLarge(usize),
     #[error("position of vertex {0} is not finite")]
     NonFinitePosition(usize),
-    #[error("{found} attribute floats given, but {vertex_count} vertices × {channels} channels need {expected}")]
+    #[error(
+        "{found} attribute floats given, but {vertex_count} vertices × {channels} channels need {expected}"
+    )]
     AttributeLength { found: usize, vertex_count: usize, channels: usize, expected: usize },
     #[error("attribute {0} is not finite")]
     NonFiniteAttribute(usize),
@@ -156,7 +158,11 @@ fn validate(input: &SimplifyInput, options: &SimplifyOptions) -> Result<(), Simp
         return Err(SimplifyError::TooLarge(triangles));
     }
     if let Some(k) = input.indices.iter().position(|&i| i as usize >= n) {
-        return Err(SimplifyError::IndexOutOfRange { index: input.indices[k], triangle: k / 3, vertex_count: n });
+        return Err(SimplifyError::IndexOutOfRange {
+            index: input.indices[k],
+            triangle: k / 3,
+            vertex_count: n,
+        });
     }
     if let Some(v) = input.positions.iter().position(|p| !p.is_finite()) {
         return Err(SimplifyError::NonFinitePosition(v));
@@ -184,9 +190,7 @@ fn validate(input: &SimplifyInput, options: &SimplifyOptions) -> Result<(), Simp
         if quadrics.len() != n {
             return Err(SimplifyError::QuadricCount { found: quadrics.len(), vertices: n });
         }
-        let finite = |q: &Quadric| {
-            q.a.iter().chain(&q.b).chain([&q.c, &q.weight]).all(|x| x.is_finite())
-        };
+        let finite = |q: &Quadric| q.a.iter().chain(&q.b).chain([&q.c, &q.weight]).all(|x| x.is_finite());
         if let Some(v) = quadrics.iter().position(|q| !finite(q)) {
             return Err(SimplifyError::NonFiniteQuadric(v));
         }

@@ -17,6 +17,9 @@
 //! Everything is f64: quadric coefficients cancel catastrophically in f32 when a mesh lies far
 //! from the origin (c ≈ |b|² / |A|), and the solve needs the headroom.
 
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use glam::DVec3;
 
 /// A symmetric quadric `Q(p) = pᵀ A p + 2 b·p + c` with the total weight (area) of its planes.
@@ -79,7 +82,11 @@ impl Quadric {
     /// `A p`.
     fn a_times(&self, p: DVec3) -> DVec3 {
         let [xx, xy, xz, yy, yz, zz] = self.a;
-        DVec3::new(xx * p.x + xy * p.y + xz * p.z, xy * p.x + yy * p.y + yz * p.z, xz * p.x + yz * p.y + zz * p.z)
+        DVec3::new(
+            xx * p.x + xy * p.y + xz * p.z,
+            xy * p.x + yy * p.y + yz * p.z,
+            xz * p.x + yz * p.y + zz * p.z,
+        )
     }
 
     /// The raw (weighted, not normalised) error `Q(p)`. Rounding can make it slightly negative.
