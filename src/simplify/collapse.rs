@@ -16,24 +16,15 @@
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::quadric::{Quadric, TriangleFrame};
-use super::topology::{
-    classify, other_corners, position_classes, Constraint, CornerLists, Kind, PositionClasses, NONE,
-};
+use super::quadric::Quadric;
+use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
+use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-/// Penalty-plane weight (× edge length², so it scales like the area-weighted face quadrics) for
-/// mesh borders and material borders. Moving a border vertex by δ across its border then costs
-/// about 10 × δ² per unit of area, an order of magnitude more than bending the surface by δ:
-/// silhouettes and material outlines go last (Garland & Heckbert 1997 use a similar weight).
-const BORDER_WEIGHT: f64 = 10.0;
-/// Penalty weight for attribute seams: they are not geometric boundaries, so they only weigh as
-/// much as the surface; their attribute quadrics carry the rest.
-const SEAM_WEIGHT: f64 = 1.0;
 /// A triangle may not face away from the input triangle it descends from: the cosine between its
 /// normal and that input normal must exceed this (≈ 89.9°). Turning past 90° is what makes a
 /// back face out of a front face (a fold); the small margin keeps the decision stable under
@@ -155,89 +146,8 @@ impl<'a> Engine<'a> {
             })
             .collect();
 
-        // Geometric quadrics: the caller's, or area-weighted face planes.
-        let mut geometric = vec![Quadric::ZERO; class_count];
-        match input.vertex_quadrics {
-            Some(quadrics) => {
-                for (v, q) in quadrics.iter().enumerate() {
-                    let c = classes.class_of[v];
-                    if c != NONE {
-                        geometric[c as usize] += q;
-                    }
-                }
-            }
-            None => {
-                for t in 0..triangle_count {
-                    let q = Quadric::from_triangle(
-                        corner_point(3 * t),
-                        corner_point(3 * t + 1),
-                        corner_point(3 * t + 2),
-                    );
-                    for k in 0..3 {
-                        geometric[classes.class_of[indices[3 * t + k] as usize] as usize] += &q;
-                    }
-                }
-            }
-        }
-        // Penalty planes: through each constraint edge, perpendicular to its triangle.
-        for side in &sides {
-            let (a, b) = (side.corner as usize, other_corners(side.corner).0 as usize);
-            let normal = input_normal[a / 3];
-            let (pa, pb) = (corner_point(a), corner_point(b));
-            let edge = pb - pa;
-            let plane = edge.cross(normal).normalize_or_zero();
-            if plane == DVec3::ZERO {
-                continue;
-            }
-            let weight = match side.constraint {
-                Constraint::Border => BORDER_WEIGHT,
-                Constraint::Seam => SEAM_WEIGHT,
-            } * edge.length_squared();
-            let mut q = Quadric::from_plane(plane, -plane.dot(pa), weight);
-            q.weight = 0.0;
-            for corner in [a, b] {
-                geometric[classes.class_of[indices[corner] as usize] as usize] += &q;
-            }
-        }
-
-        // Attribute quadrics (Hoppe 1999): the A, b, c parts per class, the cross terms per wedge.
-        let stride = 1 + 4 * m;
-        let mut appearance = vec![Quadric::ZERO; class_count];
-        let mut wedge_sums = vec![0.0f64; positions.len() * stride];
-        if m > 0 {
-            for t in 0..triangle_count {
-                let corners = [3 * t, 3 * t + 1, 3 * t + 2];
-                let Some(frame) = TriangleFrame::new(
-                    corner_point(corners[0]),
-                    corner_point(corners[1]),
-                    corner_point(corners[2]),
-                ) else {
-                    continue;
-                };
-                for corner in corners {
-                    wedge_sums[indices[corner] as usize * stride] += frame.area;
-                }
-                for (j, &w) in input.attribute_weights.iter().enumerate() {
-                    if w <= 0.0 {
-                        continue;
-                    }
-                    let s = corners.map(|k| input.attributes[indices[k] as usize * m + j] as f64);
-                    let (g, d) = frame.gradient(s[0], s[1], s[2]);
-                    let aw = frame.area * w as f64;
-                    let mut q = Quadric::from_plane(g, d, aw);
-                    q.weight = 0.0;
-                    for corner in corners {
-                        let wedge = indices[corner] as usize;
-                        appearance[classes.class_of[wedge] as usize] += &q;
-                        let base = wedge * stride + 1 + 4 * j;
-                        wedge_sums[base] += aw * g.x;
-                        wedge_sums[base + 1] += aw * g.y;
-                        wedge_sums[base + 2] += aw * g.z;
-                        wedge_sums[base + 3] += aw * d;
-                    }
-                }
-            }
-        }
+        let geometric = geometric_quadrics(&classes, input, &sides, &input_normal);
+        let (appearance, wedge_sums) = attribute_quadrics(&classes, input);
 
         let n = positions.len();
         let log = CollapseLog {
