@@ -8,8 +8,8 @@
 //! the edge, everything else (corners, locked vertices, and every half-edge collapse) keeps `v`'s
 //! position.
 //!
-//! The queue is a binary heap keyed by (cost, u, v) — a total order, so the collapse sequence is
-//! deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
+//! The queue (`queue.rs`) is a heap keyed by (cost, u, v) — a total order, so the collapse
+//! sequence is deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
 //! check marks both ends *parked*; when a later collapse changes a parked class's neighbourhood,
 //! its edges are queued again.
 
@@ -17,13 +17,12 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::quadric::Quadric;
+use super::queue::{Candidate, Queue};
 use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 
 /// A triangle may not face away from the input triangle it descends from: the cosine between its
 /// normal and that input normal must exceed this (≈ 89.9°). Turning past 90° is what makes a
@@ -51,40 +50,21 @@ struct Plan {
     v: u32,
     p: DVec3,
     cost: f64,
-    distance: f64,
     placement: Placement,
-}
-
-/// Heap entry; `Ord` is reversed so that `BinaryHeap` pops the smallest (cost, u, v).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Entry {
-    /// `f64::to_bits` of a non-negative cost: integer order equals numeric order.
-    cost: u64,
-    u: u32,
-    v: u32,
-    version_u: u32,
-    version_v: u32,
-}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        (other.cost, other.u, other.v).cmp(&(self.cost, self.u, self.v))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
 }
 
 /// Runs the whole simplification on validated input.
 pub(crate) fn run(input: &SimplifyInput, options: &SimplifyOptions) -> CollapseLog {
     let mut engine = Engine::new(input, options);
     engine.queue_all_edges();
-    let stop = engine.collapse_until(options.target_triangles, options.max_error as f64);
+    let stop = engine.collapse_until(options.target_triangles, options.max_error);
     engine.log.stop = stop;
     engine.log
+}
+
+/// Low 16 bits of both versions.
+fn stamp(version_u: u32, version_v: u32) -> u32 {
+    (version_u & 0xFFFF) | (version_v << 16)
 }
 
 struct Engine<'a> {
@@ -103,8 +83,10 @@ struct Engine<'a> {
     triangle_alive: Vec<bool>,
     live_triangles: usize,
     position: Vec<DVec3>,
+    /// Geometric quadric per class (face and penalty planes).
     geometric: Vec<Quadric>,
-    appearance: Vec<Quadric>,
+    /// Geometric plus attribute quadric per class; its weight is the geometric weight.
+    total: Vec<Quadric>,
     /// Per wedge: `[Σ area, then per channel Σ area·w·g (3), Σ area·w·d]`, stride `1 + 4m`.
     wedge_sums: Vec<f64>,
     wedge_attributes: Vec<f32>,
@@ -113,7 +95,7 @@ struct Engine<'a> {
     version: Vec<u32>,
     parked: Vec<bool>,
     // Queue.
-    heap: BinaryHeap<Entry>,
+    queue: Queue,
     // Scratch (reused, never reallocated once grown).
     mark: Vec<u32>,
     stamp: u32,
@@ -148,6 +130,10 @@ impl<'a> Engine<'a> {
 
         let geometric = geometric_quadrics(&classes, input, &sides, &input_normal);
         let (appearance, wedge_sums) = attribute_quadrics(&classes, input);
+        let mut total = geometric.clone();
+        for (t, a) in total.iter_mut().zip(&appearance) {
+            *t += a;
+        }
 
         let n = positions.len();
         let log = CollapseLog {
@@ -175,14 +161,14 @@ impl<'a> Engine<'a> {
             live_triangles: triangle_count,
             position,
             geometric,
-            appearance,
+            total,
             wedge_sums,
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
             alive: vec![true; class_count],
             version: vec![0; class_count],
             parked: vec![false; class_count],
-            heap: BinaryHeap::new(),
+            queue: Queue::default(),
             mark: vec![0; class_count],
             stamp: 0,
             u_pair: Vec::new(),
@@ -226,6 +212,11 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// The version stamp of a candidate `u → v`.
+    fn stamp_of(&self, u: u32, v: u32) -> u32 {
+        stamp(self.version[u as usize], self.version[v as usize])
+    }
+
     fn queue_all_edges(&mut self) {
         let mut neighbours = std::mem::take(&mut self.neighbours);
         for c in 0..self.classes.count() as u32 {
@@ -254,13 +245,8 @@ impl<'a> Engine<'a> {
                 (u, v)
             }
         };
-        self.heap.push(Entry {
-            cost: plan.cost.to_bits(),
-            u,
-            v,
-            version_u: self.version[u as usize],
-            version_v: self.version[v as usize],
-        });
+        let stamp = self.stamp_of(u, v);
+        self.queue.push(Candidate::new(plan.cost as f32, u, v, stamp));
     }
 
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
@@ -278,31 +264,40 @@ impl<'a> Engine<'a> {
     }
 
     /// Pops collapses in order until the target, the error limit or the end of the queue.
-    fn collapse_until(&mut self, target: usize, max_error: f64) -> StopReason {
+    fn collapse_until(&mut self, target: usize, max_error: f32) -> StopReason {
         loop {
             if target > 0 && self.live_triangles <= target {
                 return StopReason::TargetReached;
             }
-            let Some(entry) = self.heap.pop() else {
+            // Stale entries pile up (about ten per collapse): drop them in bulk once they
+            // outnumber the live edges' entries (at most two per edge, ~1.5 edges per triangle)
+            // twice over. Amortised linear.
+            if self.queue.len() > 6 * self.live_triangles + 4096 {
+                let (alive, version) = (&self.alive, &self.version);
+                self.queue.purge(|c| {
+                    let (u, v) = (c.u() as usize, c.v as usize);
+                    alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
+                });
+            }
+            let Some(entry) = self.queue.pop() else {
                 return StopReason::NoValidCollapse;
             };
-            let (u, v) = (entry.u as usize, entry.v as usize);
-            if !self.alive[u]
-                || !self.alive[v]
-                || self.version[u] != entry.version_u
-                || self.version[v] != entry.version_v
-            {
+            let (u, v) = (entry.u(), entry.v);
+            let (ui, vi) = (u as usize, v as usize);
+            if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
                 continue;
             }
-            if f64::from_bits(entry.cost) > max_error {
+            if entry.cost() > max_error {
                 return StopReason::MaxErrorReached;
             }
-            let Some(plan) = self.plan(entry.u, entry.v) else {
+            // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
+            // which a current entry reproduces exactly.
+            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
             if !self.check(&plan) {
-                self.parked[u] = true;
-                self.parked[v] = true;
+                self.parked[ui] = true;
+                self.parked[vi] = true;
                 continue;
             }
             self.apply(&plan);
@@ -326,6 +321,17 @@ impl<'a> Engine<'a> {
         self.u_pair.resize(u_wedges.len(), NONE);
         self.u_seen.clear();
         self.u_seen.resize(u_wedges.len(), false);
+        let ku = self.kind[ui];
+        let kv = self.kind[vi];
+        if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
+            // The common case needs no scan: one wedge each pairs trivially, and an interior u
+            // has no line to stay on. Whether the edge still exists is checked before applying.
+            self.u_pair[0] = 0;
+            self.u_seen[0] = true;
+            self.v_partner.clear();
+            self.v_partner.push(0);
+            return self.price(u, v, ku, kv);
+        }
         let mut edge_triangles = 0;
         let mut first_side = (NONE, NONE, NONE);
         let mut constraint = false;
@@ -361,8 +367,6 @@ impl<'a> Engine<'a> {
             return None;
         }
         constraint |= edge_triangles == 1;
-        let ku = self.kind[ui];
-        let kv = self.kind[vi];
         if ku.on_line() && !constraint {
             return None; // a line vertex only slides along its line
         }
@@ -379,17 +383,22 @@ impl<'a> Engine<'a> {
             }
             self.v_partner[iv as usize] = iu as u32;
         }
+        self.price(u, v, ku, kv)
+    }
+
+    /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made.
+    fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind) -> Option<Plan> {
+        let (ui, vi) = (u as usize, v as usize);
+        let u_wedges = self.classes.wedges_of(u);
+        let v_wedges = self.classes.wedges_of(v);
 
         let placement = match (self.mode, ku, kv) {
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) => Placement::Segment,
             _ => Placement::Fixed,
         };
-        let mut geometric = self.geometric[ui];
-        geometric += &self.geometric[vi];
-        let mut total = geometric;
-        total += &self.appearance[ui];
-        total += &self.appearance[vi];
+        let mut total = self.total[ui];
+        total += &self.total[vi];
         let stride = 1 + 4 * self.channels;
         for (iv, &wv) in v_wedges.iter().enumerate() {
             let partner = self.v_partner[iv];
@@ -434,10 +443,9 @@ impl<'a> Engine<'a> {
         };
         // The stored position is f32: price and check exactly the point that will be output.
         let p = p.as_vec3().as_dvec3();
-        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
         let cost = total.error(p).max(0.0) / weight;
-        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
-        cost.is_finite().then_some(Plan { u, v, p, cost, distance, placement })
+        cost.is_finite().then_some(Plan { u, v, p, cost, placement })
     }
 
     /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
@@ -520,8 +528,8 @@ impl<'a> Engine<'a> {
             opposite[count] = x;
             count += 1;
         }
-        if count == 2 && opposite[0] == opposite[1] {
-            return false;
+        if count == 0 || (count == 2 && opposite[0] == opposite[1]) {
+            return false; // no longer an edge, or a pinched one
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
         for corner in self.lists.iter(u) {
@@ -706,10 +714,13 @@ impl<'a> Engine<'a> {
         }
 
         // Class state.
-        let gu = self.geometric[ui];
-        self.geometric[vi] += &gu;
-        let au = self.appearance[ui];
-        self.appearance[vi] += &au;
+        let mut geometric = self.geometric[ui];
+        geometric += &self.geometric[vi];
+        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
+        self.geometric[vi] = geometric;
+        let tu = self.total[ui];
+        self.total[vi] += &tu;
         self.position[vi] = p;
         self.alive[ui] = false;
         self.version[ui] = self.version[ui].wrapping_add(1);
@@ -717,7 +728,7 @@ impl<'a> Engine<'a> {
         self.parked[vi] = false;
         self.log.steps.push(RawStep {
             cost: plan.cost,
-            distance: plan.distance,
+            distance,
             triangles_after: self.live_triangles as u32,
             first_new_vertex: first_new,
             new_vertex_count: new_count,

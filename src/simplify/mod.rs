@@ -19,6 +19,7 @@
 
 mod collapse;
 pub mod quadric;
+mod queue;
 mod topology;
 mod vertex_quadrics;
 
