@@ -7,8 +7,6 @@ use clod_viewer::simplify::{CollapseMode, SimplifyOptions, StopReason};
 use glam::Vec3;
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, torus, Mesh, Rng};
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_node_experimental);
 
 fn mode_options(mode: CollapseMode) -> SimplifyOptions {
     SimplifyOptions { mode, normal_channel: Some(0), ..SimplifyOptions::default() }

@@ -7,8 +7,6 @@ use glam::{DVec3, Vec3};
 use meshgen::{check_cursor, check_invariants, grid, Mesh};
 use std::collections::HashSet;
 
-#[cfg(target_arch = "wasm32")]
-wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_node_experimental);
 
 fn options(mode: CollapseMode, target: usize) -> SimplifyOptions {
     SimplifyOptions { mode, target_triangles: target, ..SimplifyOptions::default() }
