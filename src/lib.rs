@@ -10,14 +10,22 @@
 
 pub mod animation;
 pub mod character;
+pub mod clod;
+pub mod import;
 pub mod mesh;
+pub mod metrics;
 pub mod progressive;
 pub mod simplify;
 pub mod skeleton;
 pub mod skinning;
+pub mod vertex_cache;
+
+#[cfg(feature = "js")]
+pub mod js_api;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
+pub use import::ImportError;
 pub use mesh::SkinnedMesh;
 pub use progressive::{PmCursor, ProgressiveMesh};
 pub use simplify::{simplify, CollapseMode, SimplifyInput, SimplifyOptions};

@@ -74,6 +74,8 @@ fn normal_matrix(m: Mat3) -> Option<Mat3> {
 mod tests {
     use super::*;
     use glam::Quat;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
 
     #[test]
     fn half_weights_average_two_translations() {

@@ -7,7 +7,6 @@ use clod_viewer::simplify::{CollapseMode, SimplifyOptions, StopReason};
 use glam::Vec3;
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, torus, Mesh, Rng};
 
-
 fn mode_options(mode: CollapseMode) -> SimplifyOptions {
     SimplifyOptions { mode, normal_channel: Some(0), ..SimplifyOptions::default() }
 }

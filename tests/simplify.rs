@@ -7,7 +7,6 @@ use glam::{DVec3, Vec3};
 use meshgen::{check_cursor, check_invariants, grid, Mesh};
 use std::collections::HashSet;
 
-
 fn options(mode: CollapseMode, target: usize) -> SimplifyOptions {
     SimplifyOptions { mode, target_triangles: target, ..SimplifyOptions::default() }
 }

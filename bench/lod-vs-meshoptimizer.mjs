@@ -1,0 +1,127 @@
+// Benchmark: our articulated progressive mesh against meshoptimizer's wasm simplifier, in one node process.
+//
+//   wasm-pack build --release --target nodejs --out-dir target/pkg-node -- --features js && npm ci
+//   node bench/lod-vs-meshoptimizer.mjs [--samples N] [--frames N]
+//
+// For each model in ../shared/models and the built-in character it prints, as ratios measured in this run:
+//  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
+//     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last);
+//  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
+//     diagonal, same seed and sample count for both);
+//  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, clip-frame
+//     and multi-pose simplification;
+//  4. the native build time, when `cargo run --release --example clod_timing` has written it (see README).
+import { readFileSync, existsSync } from 'node:fs';
+import { MeshoptSimplifier } from 'meshoptimizer';
+import { api, modelBytes } from '../tests/js/models.mjs';
+
+const args = Object.fromEntries(process.argv.slice(2).map((a, i, all) => a.startsWith('--') ? [a.slice(2), all[i + 1]] : null).filter(Boolean));
+const SAMPLES = Number(args.samples ?? 20000);
+const FRAMES = Number(args.frames ?? 6);
+const SEED = 12345;
+const FRACTIONS = [0.5, 0.25, 0.1, 0.05, 0.01];
+
+await MeshoptSimplifier.ready;
+
+const now = () => performance.now();
+const pct = (d, diag) => (100 * d / diag).toFixed(3);
+
+/** Welds vertices by position only: meshoptimizer sees one vertex per position, so it may collapse across seams. */
+function weldByPosition(indices, positions) {
+  const first = new Map();
+  const remap = new Uint32Array(positions.length / 3);
+  for (let v = 0; v < remap.length; v++) {
+    const key = `${positions[3 * v]},${positions[3 * v + 1]},${positions[3 * v + 2]}`;
+    if (!first.has(key)) first.set(key, v);
+    remap[v] = first.get(key);
+  }
+  return indices.map((i) => remap[i]);
+}
+
+function meshoptLevels(indices, positions, counts, chained) {
+  const levels = [];
+  let source = indices;
+  for (const triangles of counts) {
+    // target_error 1 (the whole model's extent) lets the target count decide, as ours does.
+    const [out] = MeshoptSimplifier.simplify(chained ? source : indices, positions, 3, triangles * 3, 1.0, []);
+    levels.push(out);
+    if (chained) source = out;
+  }
+  return levels;
+}
+
+function timeIt(fn, repeats = 3) {
+  let best = Infinity, result;
+  for (let r = 0; r < repeats; r++) {
+    const t0 = now();
+    result = fn();
+    best = Math.min(best, now() - t0);
+  }
+  return [result, best];
+}
+
+function models() {
+  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb'].map((f) => [f, modelBytes(f)]);
+  const builtin = new URL('../assets/character.glb', import.meta.url);
+  if (existsSync(builtin)) list.push(['character.glb (built-in)', new Uint8Array(readFileSync(builtin))]);
+  return list.filter(([, bytes]) => bytes);
+}
+
+for (const [name, bytes] of models()) {
+  const character = api.Character.fromGlb(bytes);
+  const indices = character.indices();
+  const positions = character.bindPositions();
+  const diag = api.boundsDiagonal(positions);
+  const full = character.triangleCount;
+  const counts = FRACTIONS.map((f) => Math.max(1, Math.round(full * f)));
+  const welded = weldByPosition(indices, positions);
+
+  const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded, positions, counts, false));
+  const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
+  const [clod, oursMs] = timeIt(() => character.buildClod({ levels: counts }), 2);
+
+  console.log(`\n## ${name}: ${full} triangles, ${character.vertexCount} vertices, ${character.jointCount} joints`);
+  console.log(`build: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms ` +
+    `(independent ${meshoptIndependentMs.toFixed(1)} ms): ratio ours/chain = ${(oursMs / meshoptChainMs).toFixed(2)}`);
+
+  console.log('| level | tris ours | tris meshopt | mean ours % | mean meshopt % | ratio | hausdorff ours % | hausdorff meshopt % |');
+  console.log('|---|---|---|---|---|---|---|---|');
+  for (let i = 0; i < counts.length; i++) {
+    const ours = clod.meshAt(counts[i]);
+    const theirs = meshopt[i];
+    const dOurs = api.surfaceDistance(positions, indices, clod.bindPositionsAt(counts[i]), ours.indices, SAMPLES, SEED);
+    const dTheirs = api.surfaceDistance(positions, indices, positions, theirs, SAMPLES, SEED);
+    console.log(`| ${FRACTIONS[i] * 100}% | ${ours.indices.length / 3} | ${theirs.length / 3} | ${pct(dOurs.mean, diag)} | ` +
+      `${pct(dTheirs.mean, diag)} | ${(dOurs.mean / dTheirs.mean).toFixed(2)} | ${pct(dOurs.hausdorff, diag)} | ${pct(dTheirs.hausdorff, diag)} |`);
+  }
+  clod.free();
+
+  // Animated error: each pose choice, every level vs the full mesh skinned at the same frames.
+  const poses = { bind: 'bind', multi: 'multi' };
+  const firstClip = character.clipNames[0];
+  if (firstClip) poses['clip-frame'] = { clip: firstClip, time: character.clipDuration(firstClip) / 2 };
+  const animated = {};
+  for (const [label, pose] of Object.entries(poses)) {
+    const built = character.buildClod({ pose, levels: counts });
+    let sum = 0, n = 0, worst = 0;
+    for (const clip of character.clipNames) {
+      for (let f = 0; f < FRAMES; f++) {
+        const t = character.clipDuration(clip) * (f + 0.5) / FRAMES;
+        const fullPosed = character.skinnedPositions(clip, t);
+        for (let i = 0; i < built.levelCount; i++) {
+          const level = built.level(i);
+          const d = api.surfaceDistance(fullPosed, indices, built.levelSkinnedPositions(i, clip, t), level.indices, SAMPLES / 4, SEED);
+          sum += d.mean; worst = Math.max(worst, d.hausdorff); n++;
+        }
+      }
+    }
+    animated[label] = { mean: sum / n, hausdorff: worst };
+    built.free();
+  }
+  console.log('animated error over all clips, frames and levels (mean / hausdorff, % of diagonal):');
+  for (const [label, e] of Object.entries(animated)) {
+    const vsBind = label === 'bind' ? '' : ` (${((1 - e.mean / animated.bind.mean) * 100).toFixed(1)} % lower than bind)`;
+    console.log(`  ${label.padEnd(10)} ${pct(e.mean, diag)} / ${pct(e.hausdorff, diag)}${vsBind}`);
+  }
+  character.free();
+}

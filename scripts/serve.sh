@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Builds the wasm for the page and serves www/ on http://127.0.0.1:$PORT (default 8080).
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
+ensure_wasm_tools
+build_wasm web
+exec node "$root/scripts/serve.mjs"

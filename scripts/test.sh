@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Runs every test: formatting, lints (native and wasm32), native tests, the same tests under node
+# (wasm-pack test --node), and the JavaScript API from node. Installs missing tools first.
+# Fails if any suite — or any test file within one — ran zero tests.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
+cd "$root"
+ensure_wasm_tools
+ensure_npm_packages
+
+logs="$root/target/test-logs"
+mkdir -p "$logs"
+summary="$logs/summary.txt"
+: > "$summary"
+target="$(manifest tools.rust-target)"
+
+step() { echo; echo "== $*"; }
+
+step "cargo fmt --check"
+cargo fmt --all --check
+
+step "clippy (native, all targets; wasm32 library with the JS API)"
+cargo clippy --workspace --all-targets -- -D warnings
+cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
+
+step "the core builds without the JS layer (native and wasm32)"
+cargo check --lib --no-default-features
+cargo check --lib --no-default-features --target "$target"
+
+step "native tests"
+cargo test --workspace 2>&1 | tee "$logs/native.log"
+node scripts/count-tests.mjs native "$logs/native.log" "$summary"
+
+step "the built-in character: assets/character.glb equals what its generator makes"
+cargo run --quiet -p make-character -- --check assets/character.glb
+
+step "the same tests under node (wasm-pack test --node)"
+CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
+node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
+
+step "JavaScript API from node (wasm-pack build --target nodejs)"
+build_wasm node
+node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
+node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
+
+echo
+awk '{p += $2; f += $3} END {printf "total: %d passed, %d failed\n", p, f}' "$summary"

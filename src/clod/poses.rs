@@ -1,0 +1,159 @@
+//! Simplification poses: where the articulated progressive mesh is simplified, and the quadrics that
+//! let several animation frames vote on every collapse.
+//!
+//! Houle & Poulin (2001) simplify the skinned mesh in one static pose. We call that pose `P0`; its
+//! per-vertex blended skin matrix `M0(v)` maps bind space to it, and the simplifier runs on the
+//! posed positions `x = M0(v) · b`. With several poses (multi-pose, after Mohr & Gleicher 2003),
+//! every frame `p` contributes plane quadrics measured where the triangle really is in that frame,
+//! pulled back into `P0` space through `A_p(v) = Mp(v) · M0(v)⁻¹`: a plane `π` of frame `p` becomes
+//! `A_p(v)ᵀ π`, so the pulled-back quadric measures, at a `P0` position, the squared distance its
+//! skinned image would have from the frame's plane. All quadrics are area-weighted and averaged
+//! over frames, so one pose or many give errors on the same scale (squared model units).
+
+use glam::{Mat4, Vec3};
+
+use crate::animation::Wrap;
+use crate::character::Character;
+use crate::simplify::Quadric;
+use crate::skinning::blend_matrix;
+
+/// Which static pose the progressive mesh is simplified in.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimplificationPose {
+    /// The bind pose: the mesh exactly as stored (every skin matrix is the identity).
+    Bind,
+    /// One frame of one clip, e.g. a half-bent pose as in Houle & Poulin.
+    ClipFrame { clip: String, time: f32 },
+    /// Simplified in the bind pose, with quadrics summed over frames sampled from every clip.
+    MultiPose { frames_per_clip: usize },
+}
+
+/// Frames per clip of the default multi-pose: enough to see every joint bend in a walk cycle,
+/// few enough that the quadric pass stays a small part of the build.
+pub const DEFAULT_FRAMES_PER_CLIP: usize = 8;
+
+/// Upper bound on frames summed over all clips, so files with dozens of clips stay fast.
+pub const MAX_FRAMES: usize = 48;
+
+/// The per-vertex blended skin matrices (`posed_from_bind`) of one pose.
+pub fn vertex_matrices(character: &Character, skin: &[Mat4]) -> Vec<Mat4> {
+    let mesh = &character.mesh;
+    (0..mesh.vertex_count()).map(|v| blend_matrix(skin, mesh.joints[v], mesh.weights[v])).collect()
+}
+
+/// Skin matrices of every frame a multi-pose build samples: `frames_per_clip` evenly spaced
+/// frames of each clip (the clip's end is left out since loops repeat their start), capped at
+/// [`MAX_FRAMES`] in total by sampling fewer frames per clip.
+pub fn multi_pose_frames(character: &Character, frames_per_clip: usize) -> Vec<Vec<Mat4>> {
+    let clips = character.clips.len().max(1);
+    let per_clip = frames_per_clip.clamp(1, (MAX_FRAMES / clips).max(1));
+    let mut frames = Vec::new();
+    for clip in &character.clips {
+        for f in 0..per_clip {
+            let time = clip.duration() * f as f32 / per_clip as f32;
+            let mut pose = character.skeleton.rest_pose();
+            clip.sample_into(time, Wrap::Clamp, &mut pose);
+            frames.push(character.skeleton.pose_skin_matrices(&pose));
+        }
+    }
+    frames
+}
+
+/// Adds the area-weighted plane quadrics of one frame to every vertex, pulled back into `P0`
+/// space (see the module docs), each scaled by `frame_weight` (1 / number of frames).
+///
+/// `frame_matrices[v]` is `Mf(v)`; `p0_inverse[v]` is `M0(v)⁻¹`, or `None` when `P0` is the bind
+/// pose (every `M0` is the identity). Triangles with no area in the frame add nothing.
+pub fn add_frame_quadrics(
+    quadrics: &mut [Quadric],
+    bind_positions: &[Vec3],
+    indices: &[u32],
+    p0_inverse: Option<&[Mat4]>,
+    frame_matrices: &[Mat4],
+    frame_weight: f64,
+) {
+    for tri in indices.chunks_exact(3) {
+        let v = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let [a, b, c] = v.map(|i| frame_matrices[i].transform_point3(bind_positions[i]).as_dvec3());
+        let n = (b - a).cross(c - a);
+        let double_area = n.length();
+        // Zero-area or non-finite (NaN compares false) triangles have no plane.
+        if double_area.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !double_area.is_finite() {
+            continue;
+        }
+        let normal = n / double_area;
+        let plane = normal.extend(-normal.dot(a));
+        let weight = 0.5 * double_area * frame_weight;
+        for &i in &v {
+            // The frame's plane seen from P0 space: π' = A(v)ᵀ π with A(v) = Mf(v) · M0(v)⁻¹.
+            let frame_from_p0 = match p0_inverse {
+                Some(inverse) => (frame_matrices[i] * inverse[i]).as_dmat4(),
+                None => frame_matrices[i].as_dmat4(),
+            };
+            let pulled = frame_from_p0.transpose() * plane;
+            quadrics[i].add(&Quadric::from_plane(pulled.truncate(), pulled.w, weight));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    const TRIANGLE: [Vec3; 3] = [Vec3::ZERO, Vec3::X, Vec3::Y];
+
+    fn one_frame(frame: Mat4) -> Vec<Quadric> {
+        let mut q = vec![Quadric::ZERO; 3];
+        add_frame_quadrics(&mut q, &TRIANGLE, &[0, 1, 2], None, &[frame; 3], 1.0);
+        q
+    }
+
+    #[test]
+    fn a_pulled_back_plane_measures_distance_in_its_frame() {
+        // The frame lifts everything by 2 along z; P0 is the bind pose.
+        let q = one_frame(Mat4::from_translation(Vec3::new(0.0, 0.0, 2.0)));
+        // Area 0.5 on each corner; on the plane the error is 0, one unit off it is 0.5 · 1².
+        assert!(q[0].error(DVec3::ZERO).abs() < 1e-12);
+        assert!((q[0].error(DVec3::new(0.3, 0.3, 1.0)) - 0.5).abs() < 1e-9);
+        assert_eq!(q[0].weight, 0.5);
+    }
+
+    #[test]
+    fn frames_average_rather_than_add() {
+        let mut two = vec![Quadric::ZERO; 3];
+        for _ in 0..2 {
+            add_frame_quadrics(&mut two, &TRIANGLE, &[0, 1, 2], None, &[Mat4::IDENTITY; 3], 0.5);
+        }
+        let one = one_frame(Mat4::IDENTITY);
+        let p = DVec3::new(0.1, 0.2, 0.7);
+        assert!((one[1].error(p) - two[1].error(p)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_scaled_frame_scales_the_measured_distance() {
+        // The frame doubles z: a point 1 above the plane in P0 is 2 above it in the frame.
+        let q = one_frame(Mat4::from_scale(Vec3::new(1.0, 1.0, 2.0)));
+        assert!((q[2].error(DVec3::Z) - 0.5 * 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn p0_space_is_undone_before_the_frame_applies() {
+        // P0 moved the vertices up by 1; the frame puts them back at z = 0. A P0 point at z = 1
+        // is on the frame's plane.
+        let p0 = Mat4::from_translation(Vec3::Z);
+        let mut q = vec![Quadric::ZERO; 3];
+        add_frame_quadrics(
+            &mut q,
+            &TRIANGLE,
+            &[0, 1, 2],
+            Some(&[p0.inverse(); 3]),
+            &[Mat4::IDENTITY; 3],
+            1.0,
+        );
+        assert!(q[0].error(DVec3::new(0.2, 0.2, 1.0)).abs() < 1e-12);
+        assert!((q[0].error(DVec3::new(0.2, 0.2, 0.0)) - 0.5).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,163 @@
+//! Animations (glTF 2.0 §3.11) as [`Clip`]s over the skeleton's nodes.
+//!
+//! Each channel becomes one [`Curve`]: key times from the sampler's input (seconds), values from
+//! its output (floats, or for rotations normalized integers as §3.11 allows). Rotation keys are
+//! normalized (writers store them with rounding error; a zero-length key is an error). Channels
+//! on nodes outside the skeleton drive nothing we draw and are dropped; morph weight channels are
+//! dropped with a warning, as morph targets are not imported.
+
+use glam::{Quat, Vec3};
+use gltf_json::accessor::Type;
+use gltf_json::animation::{Interpolation as JsonInterpolation, Property};
+use gltf_json::validation::Checked;
+
+use super::accessor::{read_floats, Source};
+use super::scene::node_name;
+use super::{ImportError, MAX_KEYS};
+use crate::animation::{Channel, ChannelCurve, Clip, Curve, CurveError, Interpolation};
+
+/// Every animation of the file, in file order; clips are named by the file or `clip <index>`.
+///
+/// # Errors
+/// Bad accessors, or keys that do not make a valid curve (named by clip and channel).
+pub(crate) fn read_clips(
+    src: Source,
+    slots: &[Option<usize>],
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Clip>, ImportError> {
+    let mut clips = Vec::with_capacity(src.root.animations.len());
+    for (a, anim) in src.root.animations.iter().enumerate() {
+        let name = anim.name.clone().unwrap_or_else(|| format!("clip {a}"));
+        let mut channels = Vec::new();
+        let mut dropped_weights = false;
+        for (c, channel) in anim.channels.iter().enumerate() {
+            let node = channel.target.node.value();
+            let Checked::Valid(property) = channel.target.path else {
+                return Err(ImportError::Invalid(format!(
+                    "animation '{name}' channel {c} has an unknown target path"
+                )));
+            };
+            if property == Property::MorphTargetWeights {
+                dropped_weights = true;
+                continue;
+            }
+            let Some(slot) = slots.get(node).copied().flatten() else { continue };
+            let sampler = anim.samplers.get(channel.sampler.value()).ok_or_else(|| {
+                ImportError::Invalid(format!("animation '{name}' channel {c} names a missing sampler"))
+            })?;
+            let interpolation = match sampler.interpolation {
+                Checked::Valid(JsonInterpolation::Step) => Interpolation::Step,
+                Checked::Valid(JsonInterpolation::Linear) => Interpolation::Linear,
+                Checked::Valid(JsonInterpolation::CubicSpline) => Interpolation::CubicSpline,
+                Checked::Invalid => {
+                    return Err(ImportError::Invalid(format!(
+                        "animation '{name}' channel {c} has an unknown interpolation"
+                    )))
+                }
+            };
+            let target = format!("{} of node '{}'", property_name(property), node_name(src.root, node));
+            let usage = |what: &str| format!("{what} of animation '{name}' channel {c}");
+            let times =
+                read_floats(src, sampler.input.value(), &usage("key times"), &[Type::Scalar], MAX_KEYS)?;
+            // Cubic splines store in-tangent, value and out-tangent per key.
+            let max_values =
+                if interpolation == Interpolation::CubicSpline { 3 * MAX_KEYS } else { MAX_KEYS };
+            let curve_error = |source: CurveError| ImportError::Animation {
+                clip: name.clone(),
+                channel: c,
+                target: target.clone(),
+                source,
+            };
+            let curve = match property {
+                Property::Translation | Property::Scale => {
+                    let out = read_floats(
+                        src,
+                        sampler.output.value(),
+                        &usage("key values"),
+                        &[Type::Vec3],
+                        max_values,
+                    )?;
+                    let values = out.values.chunks_exact(3).map(Vec3::from_slice).collect();
+                    let curve = Curve::new(times.values, values, interpolation).map_err(curve_error)?;
+                    match property {
+                        Property::Translation => ChannelCurve::Translation(curve),
+                        _ => ChannelCurve::Scale(curve),
+                    }
+                }
+                _ => {
+                    let out = read_floats(
+                        src,
+                        sampler.output.value(),
+                        &usage("key values"),
+                        &[Type::Vec4],
+                        max_values,
+                    )?;
+                    let values = rotation_keys(&out.values, interpolation).map_err(curve_error)?;
+                    ChannelCurve::Rotation(
+                        Curve::new(times.values, values, interpolation).map_err(curve_error)?,
+                    )
+                }
+            };
+            channels.push(Channel { node: slot, curve });
+        }
+        if dropped_weights {
+            warnings.push(format!(
+                "animation '{name}' animates morph target weights; those channels are dropped"
+            ));
+        }
+        clips.push(Clip::new(name, channels));
+    }
+    Ok(clips)
+}
+
+fn property_name(p: Property) -> &'static str {
+    match p {
+        Property::Translation => "translation",
+        Property::Rotation => "rotation",
+        Property::Scale => "scale",
+        Property::MorphTargetWeights => "weights",
+    }
+}
+
+/// Smallest rotation key length we normalize; shorter keys carry no direction.
+const MIN_QUAT_LENGTH: f32 = 1e-6;
+
+/// Rotation keys as quaternions, key values normalized (cubic tangents are left as they are).
+fn rotation_keys(xyzw: &[f32], interpolation: Interpolation) -> Result<Vec<Quat>, CurveError> {
+    xyzw.chunks_exact(4)
+        .enumerate()
+        .map(|(k, c)| {
+            let q = Quat::from_xyzw(c[0], c[1], c[2], c[3]);
+            let is_value = interpolation != Interpolation::CubicSpline || k % 3 == 1;
+            if !is_value {
+                return Ok(q);
+            }
+            if !q.is_finite() {
+                return Err(CurveError::NonFiniteValue);
+            }
+            if q.length() < MIN_QUAT_LENGTH {
+                return Err(CurveError::ZeroRotation);
+            }
+            Ok(q.normalize())
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_values_are_normalized_but_tangents_are_not() {
+        let keys = rotation_keys(
+            &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 4.0],
+            Interpolation::CubicSpline,
+        )
+        .unwrap();
+        assert_eq!(
+            keys,
+            vec![Quat::from_xyzw(0.0, 0.0, 0.0, 2.0), Quat::IDENTITY, Quat::from_xyzw(0.0, 0.0, 0.0, 4.0)]
+        );
+        assert_eq!(rotation_keys(&[0.0; 4], Interpolation::Linear), Err(CurveError::ZeroRotation));
+    }
+}

@@ -1,0 +1,511 @@
+//! Mesh primitives (glTF 2.0 §3.7.2) of every mesh node merged into one indexed
+//! [`SkinnedMesh`] in bind space.
+//!
+//! Per primitive, in order: read and check the vertex attributes and triangles (strips and fans
+//! become lists; points and lines are skipped), resolve skin influences (the four largest of all
+//! JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by decreasing weight,
+//! renormalized to sum 1), weld bit-identical corners of non-indexed primitives, fill missing
+//! normals, move rigid (unskinned) parts into bind space, and append with a [`PrimitiveRange`].
+//!
+//! Influences with weight 0 are ignored, so their joint index may be anything. A vertex whose
+//! weights are all zero is an error naming it: the spec requires weights summing to 1, and binding
+//! it to an arbitrary joint would hide a broken export.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use gltf_json::accessor::Type;
+use gltf_json::mesh::{Mode, Semantic};
+use gltf_json::validation::Checked;
+
+use super::accessor::{read_floats, read_uints, Elements, Source};
+use super::scene::{node_name, JointTable, MeshInstance, SceneGraph};
+use super::{ImportError, MAX_INDICES, MAX_VERTICES};
+use crate::mesh::{compute_normals, PrimitiveRange, SkinnedMesh};
+use crate::skeleton::Skeleton;
+
+/// One primitive's vertices and triangles, in the space the file stores them.
+struct Primitive {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
+    /// `(JOINTS_n, WEIGHTS_n)` accessor pairs, four components each.
+    influence_sets: Vec<(Elements<u32>, Elements<f32>)>,
+    /// Triangle list.
+    indices: Vec<u32>,
+    /// Whether the file gave an index buffer (otherwise corners are welded).
+    indexed: bool,
+}
+
+/// Skin data resolved to [`crate::Skeleton::joints`].
+struct Influences {
+    joints: Vec<[u16; 4]>,
+    weights: Vec<[f32; 4]>,
+}
+
+fn prim_error(label: &str, problem: impl Into<String>) -> ImportError {
+    ImportError::Primitive { primitive: label.to_string(), problem: problem.into() }
+}
+
+/// Merges every triangle primitive of every mesh node of `graph` into one mesh, filling
+/// `skeleton.joints`.
+///
+/// # Errors
+/// Bad accessors, out-of-range indices or joints, non-finite data, all-zero weights, size caps,
+/// or a scene without triangles.
+pub(crate) fn merge_meshes(
+    src: Source,
+    graph: &SceneGraph,
+    slots: &[Option<usize>],
+    skeleton: &mut Skeleton,
+    warnings: &mut Vec<String>,
+) -> Result<SkinnedMesh, ImportError> {
+    let model_from_node = skeleton.model_from_node(&skeleton.rest_pose());
+    let mut table = JointTable::default();
+    let mut out = SkinnedMesh::default();
+    let mut warned_meshes = HashSet::new();
+    for inst in &graph.instances {
+        let mesh = src.root.meshes.get(inst.mesh).ok_or_else(|| {
+            ImportError::Invalid(format!("node {} uses mesh {} which does not exist", inst.node, inst.mesh))
+        })?;
+        let mesh_label = match &mesh.name {
+            Some(name) => format!("mesh {} ('{name}')", inst.mesh),
+            None => format!("mesh {}", inst.mesh),
+        };
+        let has_targets = mesh.primitives.iter().any(|p| p.targets.as_ref().is_some_and(|t| !t.is_empty()));
+        if has_targets && warned_meshes.insert(inst.mesh) {
+            warnings.push(format!("{mesh_label} has morph targets; only its base shape is imported"));
+        }
+        for (p, prim_json) in mesh.primitives.iter().enumerate() {
+            let label = format!("{mesh_label} primitive {p}");
+            let Some(mut prim) = read_primitive(src, prim_json, &label, warnings)? else { continue };
+            let skinned = match inst.skin {
+                Some(skin) if !prim.influence_sets.is_empty() => {
+                    let remap = table.skin(src, slots, skin)?;
+                    Some(resolve_influences(&prim.influence_sets, remap, &label)?)
+                }
+                Some(_) => {
+                    warnings
+                        .push(format!("{label} is skinned but has no JOINTS_0/WEIGHTS_0; it is kept rigid"));
+                    None
+                }
+                None => None,
+            };
+            let influences = match skinned {
+                Some(influences) => influences,
+                None => match bind_rigid(&mut prim, inst, slots, &model_from_node, &mut table, &label)? {
+                    Some(influences) => influences,
+                    None => {
+                        let node = node_name(src.root, inst.node);
+                        warnings
+                            .push(format!("{label}: node '{node}' has a singular rest transform; skipped"));
+                        continue;
+                    }
+                },
+            };
+            let (prim, influences) = if prim.indexed { (prim, influences) } else { weld(prim, influences) };
+            append(&mut out, prim, influences, prim_json.material.map(|m| m.value()))?;
+        }
+    }
+    if out.indices.is_empty() {
+        return Err(ImportError::NoTriangles);
+    }
+    skeleton.joints = table.joints;
+    Ok(out)
+}
+
+/// Reads one primitive's attributes and triangles, or `None` (with a warning) when it draws no
+/// triangles.
+fn read_primitive(
+    src: Source,
+    prim: &gltf_json::mesh::Primitive,
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Primitive>, ImportError> {
+    let mode = match prim.mode {
+        Checked::Valid(mode) => mode,
+        Checked::Invalid => return Err(prim_error(label, "has an unknown primitive mode")),
+    };
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        warnings.push(format!("{label} draws {mode:?}, not triangles; skipped"));
+        return Ok(None);
+    }
+    let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|a| a.value());
+    let Some(position_accessor) = attribute(Semantic::Positions) else {
+        warnings.push(format!("{label} has no POSITION; skipped"));
+        return Ok(None);
+    };
+    let usage = |name: &str| format!("{name} of {label}");
+
+    let positions = read_floats(src, position_accessor, &usage("POSITION"), &[Type::Vec3], MAX_VERTICES)?;
+    let count = positions.count();
+    let positions = to_vec3(&positions);
+    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(prim_error(label, format!("vertex {v} has a non-finite position {}", positions[v])));
+    }
+    let same_count = |name: &str, e: &Elements<f32>| -> Result<(), ImportError> {
+        match e.count() == count {
+            true => Ok(()),
+            false => {
+                Err(prim_error(label, format!("{name} has {} elements but POSITION has {count}", e.count())))
+            }
+        }
+    };
+    let normals = match attribute(Semantic::Normals) {
+        Some(a) => {
+            let e = read_floats(src, a, &usage("NORMAL"), &[Type::Vec3], MAX_VERTICES)?;
+            same_count("NORMAL", &e)?;
+            let normals = to_vec3(&e);
+            if let Some(v) = normals.iter().position(|n| !n.is_finite()) {
+                return Err(prim_error(label, format!("vertex {v} has a non-finite normal")));
+            }
+            Some(normals)
+        }
+        None => None,
+    };
+    let uvs = match attribute(Semantic::TexCoords(0)) {
+        Some(a) => {
+            let e = read_floats(src, a, &usage("TEXCOORD_0"), &[Type::Vec2], MAX_VERTICES)?;
+            same_count("TEXCOORD_0", &e)?;
+            let uvs: Vec<Vec2> = e.values.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
+            if let Some(v) = uvs.iter().position(|t| !t.is_finite()) {
+                return Err(prim_error(label, format!("vertex {v} has a non-finite texture coordinate")));
+            }
+            Some(uvs)
+        }
+        None => None,
+    };
+    let colors = match attribute(Semantic::Colors(0)) {
+        Some(a) => {
+            let e = read_floats(src, a, &usage("COLOR_0"), &[Type::Vec3, Type::Vec4], MAX_VERTICES)?;
+            same_count("COLOR_0", &e)?;
+            let colors: Vec<Vec4> = match e.components {
+                3 => e.values.chunks_exact(3).map(|c| Vec4::new(c[0], c[1], c[2], 1.0)).collect(),
+                _ => e.values.chunks_exact(4).map(Vec4::from_slice).collect(),
+            };
+            if let Some(v) = colors.iter().position(|c| !c.is_finite()) {
+                return Err(prim_error(label, format!("vertex {v} has a non-finite colour")));
+            }
+            Some(colors)
+        }
+        None => None,
+    };
+    let mut influence_sets = Vec::new();
+    for set in 0.. {
+        let (Some(j), Some(w)) = (attribute(Semantic::Joints(set)), attribute(Semantic::Weights(set))) else {
+            break;
+        };
+        let joints = read_uints(src, j, &usage(&format!("JOINTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
+        let weights = read_floats(src, w, &usage(&format!("WEIGHTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
+        same_count(&format!("WEIGHTS_{set}"), &weights)?;
+        if joints.count() != count {
+            return Err(prim_error(
+                label,
+                format!("JOINTS_{set} has {} elements but POSITION has {count}", joints.count()),
+            ));
+        }
+        influence_sets.push((joints, weights));
+    }
+
+    let (indices, indexed) = match prim.indices {
+        Some(a) => {
+            let e = read_uints(src, a.value(), &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
+            if let Some(&i) = e.values.iter().find(|&&i| i as usize >= count) {
+                return Err(prim_error(label, format!("index {i} is out of range for {count} vertices")));
+            }
+            (e.values, true)
+        }
+        None => ((0..count as u32).collect(), false),
+    };
+    let indices = triangle_list(mode, &indices);
+    if indices.is_empty() {
+        warnings.push(format!("{label} has no complete triangle; skipped"));
+        return Ok(None);
+    }
+    Ok(Some(Primitive { positions, normals, uvs, colors, influence_sets, indices, indexed }))
+}
+
+fn to_vec3(e: &Elements<f32>) -> Vec<Vec3> {
+    e.values.chunks_exact(3).map(Vec3::from_slice).collect()
+}
+
+/// A triangle list from the corners of a list, strip or fan (§3.7.2.1). Strip and fan triangles
+/// with a repeated corner are dropped (strips use them to restart); a list's trailing corners that
+/// do not make a whole triangle are dropped too.
+fn triangle_list(mode: Mode, corners: &[u32]) -> Vec<u32> {
+    let n = corners.len();
+    let degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    match mode {
+        Mode::TriangleStrip => (0..n.saturating_sub(2))
+            .map(|i| match i % 2 {
+                0 => [corners[i], corners[i + 1], corners[i + 2]],
+                _ => [corners[i], corners[i + 2], corners[i + 1]],
+            })
+            .filter(|t| !degenerate(t))
+            .flatten()
+            .collect(),
+        Mode::TriangleFan => (1..n.saturating_sub(1))
+            .map(|i| [corners[i], corners[i + 1], corners[0]])
+            .filter(|t| !degenerate(t))
+            .flatten()
+            .collect(),
+        _ => corners[..n - n % 3].to_vec(),
+    }
+}
+
+/// The four strongest influences of every vertex, in skeleton joint indices; see the module docs.
+fn resolve_influences(
+    sets: &[(Elements<u32>, Elements<f32>)],
+    remap: &[u16],
+    label: &str,
+) -> Result<Influences, ImportError> {
+    let count = sets.first().map_or(0, |(j, _)| j.count());
+    let mut joints = Vec::with_capacity(count);
+    let mut weights = Vec::with_capacity(count);
+    let mut pairs: Vec<(u16, f32)> = Vec::with_capacity(4 * sets.len());
+    for v in 0..count {
+        pairs.clear();
+        for (js, ws) in sets {
+            for (&j, &w) in js.get(v).iter().zip(ws.get(v)) {
+                if !w.is_finite() || w < 0.0 {
+                    return Err(prim_error(label, format!("vertex {v} has skin weight {w}")));
+                }
+                if w == 0.0 {
+                    continue;
+                }
+                let Some(&joint) = remap.get(j as usize) else {
+                    return Err(prim_error(
+                        label,
+                        format!("vertex {v} uses joint {j} but its skin has {} joints", remap.len()),
+                    ));
+                };
+                // The same joint listed twice (in two sets, or by a sloppy exporter) adds up.
+                match pairs.iter_mut().find(|(pj, _)| *pj == joint) {
+                    Some(pair) => pair.1 += w,
+                    None => pairs.push((joint, w)),
+                }
+            }
+        }
+        // Heaviest first; equal weights by joint index so the result does not depend on file order.
+        pairs.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        pairs.truncate(4);
+        let total: f32 = pairs.iter().map(|p| p.1).sum();
+        if !(total > 0.0 && total.is_finite()) {
+            return Err(prim_error(label, format!("vertex {v} has skin weights that are all zero")));
+        }
+        let mut j4 = [0u16; 4];
+        let mut w4 = [0f32; 4];
+        for (k, &(j, w)) in pairs.iter().enumerate() {
+            j4[k] = j;
+            w4[k] = w / total;
+        }
+        joints.push(j4);
+        weights.push(w4);
+    }
+    Ok(Influences { joints, weights })
+}
+
+/// Binds a rigid primitive of `inst` to a joint that follows its node: the vertices move into
+/// bind space (model space at rest) and the joint's inverse bind matrix undoes that, so skinning
+/// at rest returns them to where the file puts them. `None` when the node's rest transform is
+/// singular (a zero scale hides the part; there is no bind space to put it in).
+fn bind_rigid(
+    prim: &mut Primitive,
+    inst: &MeshInstance,
+    slots: &[Option<usize>],
+    model_from_node: &[Mat4],
+    table: &mut JointTable,
+    label: &str,
+) -> Result<Option<Influences>, ImportError> {
+    let slot = slots
+        .get(inst.node)
+        .copied()
+        .flatten()
+        .ok_or_else(|| prim_error(label, "belongs to a node outside the skeleton"))?;
+    let m = model_from_node[slot];
+    let det = m.determinant();
+    // Below this a 3×3 part is numerically singular for f32 inverses.
+    const MIN_DETERMINANT: f32 = 1e-12;
+    if !det.is_finite() || det.abs() < MIN_DETERMINANT {
+        return Ok(None);
+    }
+    let joint = table.add(slot, m.inverse())?;
+    for p in &mut prim.positions {
+        *p = m.transform_point3(*p);
+    }
+    if let Some(normals) = &mut prim.normals {
+        let normal_from_node = Mat3::from_mat4(m).inverse().transpose();
+        for n in normals.iter_mut() {
+            *n = normal_from_node * *n;
+        }
+    }
+    if det < 0.0 {
+        // A mirroring transform turns the winding around (§3.7.2.1): swap two corners back.
+        for t in prim.indices.chunks_exact_mut(3) {
+            t.swap(1, 2);
+        }
+    }
+    let n = prim.positions.len();
+    Ok(Some(Influences { joints: vec![[joint, 0, 0, 0]; n], weights: vec![[1.0, 0.0, 0.0, 0.0]; n] }))
+}
+
+/// Merges corners that are bit-identical in every attribute (position, normal, uv, colour, joints,
+/// weights), keeping first occurrences in order. Non-indexed files store each triangle corner
+/// separately; welding makes the mesh connected for simplification.
+fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
+    let n = prim.positions.len();
+    let mut key_len = 3 + 4 + 4;
+    key_len += prim.normals.as_ref().map_or(0, |_| 3) + prim.uvs.as_ref().map_or(0, |_| 2);
+    key_len += prim.colors.as_ref().map_or(0, |_| 4);
+    let mut keys: Vec<u32> = Vec::with_capacity(n * key_len);
+    for v in 0..n {
+        keys.extend(prim.positions[v].to_array().map(f32::to_bits));
+        if let Some(normals) = &prim.normals {
+            keys.extend(normals[v].to_array().map(f32::to_bits));
+        }
+        if let Some(uvs) = &prim.uvs {
+            keys.extend(uvs[v].to_array().map(f32::to_bits));
+        }
+        if let Some(colors) = &prim.colors {
+            keys.extend(colors[v].to_array().map(f32::to_bits));
+        }
+        keys.extend(influences.joints[v].map(u32::from));
+        keys.extend(influences.weights[v].map(f32::to_bits));
+    }
+    let mut first: HashMap<&[u32], u32> = HashMap::with_capacity(n);
+    let mut kept: Vec<usize> = Vec::new();
+    let remap: Vec<u32> = keys
+        .chunks_exact(key_len)
+        .enumerate()
+        .map(|(v, key)| {
+            *first.entry(key).or_insert_with(|| {
+                kept.push(v);
+                (kept.len() - 1) as u32
+            })
+        })
+        .collect();
+    let pick = |values: &[Vec3]| kept.iter().map(|&v| values[v]).collect::<Vec<_>>();
+    let welded = Primitive {
+        positions: pick(&prim.positions),
+        normals: prim.normals.as_deref().map(pick),
+        uvs: prim.uvs.as_ref().map(|uvs| kept.iter().map(|&v| uvs[v]).collect()),
+        colors: prim.colors.as_ref().map(|c| kept.iter().map(|&v| c[v]).collect()),
+        influence_sets: Vec::new(),
+        indices: prim.indices.iter().map(|&i| remap[i as usize]).collect(),
+        indexed: true,
+    };
+    let influences = Influences {
+        joints: kept.iter().map(|&v| influences.joints[v]).collect(),
+        weights: kept.iter().map(|&v| influences.weights[v]).collect(),
+    };
+    (welded, influences)
+}
+
+/// Unit normals for a primitive: the file's, with zero-length ones (and missing ones) replaced by
+/// area-weighted face normals.
+fn unit_normals(prim: &Primitive) -> Vec<Vec3> {
+    let mut computed: Option<Vec<Vec3>> = None;
+    let mut compute = || compute_normals(&prim.positions, &prim.indices);
+    match &prim.normals {
+        None => compute(),
+        Some(normals) => normals
+            .iter()
+            .enumerate()
+            .map(|(v, n)| n.try_normalize().unwrap_or_else(|| computed.get_or_insert_with(&mut compute)[v]))
+            .collect(),
+    }
+}
+
+/// Appends a primitive to the merged mesh with its material range.
+fn append(
+    out: &mut SkinnedMesh,
+    prim: Primitive,
+    influences: Influences,
+    material: Option<usize>,
+) -> Result<(), ImportError> {
+    let base = out.positions.len();
+    let vertices = base + prim.positions.len();
+    if vertices > MAX_VERTICES {
+        return Err(ImportError::TooLarge {
+            what: "vertices of the merged mesh".into(),
+            count: vertices as u64,
+            limit: MAX_VERTICES as u64,
+        });
+    }
+    let indices = out.indices.len() + prim.indices.len();
+    if indices > MAX_INDICES {
+        return Err(ImportError::TooLarge {
+            what: "indices of the merged mesh".into(),
+            count: indices as u64,
+            limit: MAX_INDICES as u64,
+        });
+    }
+    let normals = unit_normals(&prim);
+    let n = prim.positions.len();
+    out.normals.extend(normals);
+    match (&mut out.uvs, prim.uvs) {
+        (Some(uvs), Some(new)) => uvs.extend(new),
+        (Some(uvs), None) => uvs.resize(vertices, Vec2::ZERO),
+        (None, Some(new)) => out.uvs = Some([vec![Vec2::ZERO; base], new].concat()),
+        (None, None) => {}
+    }
+    match (&mut out.colors, prim.colors) {
+        (Some(colors), Some(new)) => colors.extend(new),
+        (Some(colors), None) => colors.resize(vertices, Vec4::ONE),
+        (None, Some(new)) => out.colors = Some([vec![Vec4::ONE; base], new].concat()),
+        (None, None) => {}
+    }
+    debug_assert_eq!(influences.joints.len(), n);
+    out.positions.extend(prim.positions);
+    out.joints.extend(influences.joints);
+    out.weights.extend(influences.weights);
+    let first_index = out.indices.len() as u32;
+    out.indices.extend(prim.indices.iter().map(|&i| i + base as u32));
+    out.primitives.push(PrimitiveRange { first_index, index_count: prim.indices.len() as u32, material });
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_become_lists() {
+        assert_eq!(triangle_list(Mode::TriangleStrip, &[0, 1, 2, 3, 4]), vec![0, 1, 2, 1, 3, 2, 2, 3, 4]);
+        assert_eq!(triangle_list(Mode::TriangleFan, &[0, 1, 2, 3]), vec![1, 2, 0, 2, 3, 0]);
+        assert_eq!(triangle_list(Mode::Triangles, &[0, 1, 2, 3]), vec![0, 1, 2]);
+        // A restart: repeated corners make degenerate triangles that are dropped.
+        assert_eq!(triangle_list(Mode::TriangleStrip, &[0, 1, 1, 2]), Vec::<u32>::new());
+    }
+
+    #[test]
+    fn influences_keep_four_heaviest_sorted_and_renormalized() {
+        let joints = Elements { values: vec![0, 1, 2, 3], components: 4 };
+        let weights = Elements { values: vec![0.1, 0.4, 0.2, 0.3], components: 4 };
+        let joints1 = Elements { values: vec![4, 1, 0, 0], components: 4 };
+        let weights1 = Elements { values: vec![0.5, 0.1, 0.0, 0.0], components: 4 };
+        let remap = [10, 11, 12, 13, 14];
+        let sets = [(joints, weights), (joints1, weights1)];
+        let r = resolve_influences(&sets, &remap, "p").unwrap();
+        // Joint 1 appears twice (0.4 + 0.1); joint 0 (0.1) is the fifth and is dropped.
+        assert_eq!(r.joints, vec![[11, 14, 13, 12]]);
+        let total = 0.5 + 0.5 + 0.3 + 0.2;
+        assert_eq!(r.weights, vec![[0.5 / total, 0.5 / total, 0.3 / total, 0.2 / total]]);
+    }
+
+    #[test]
+    fn zero_weight_slots_may_name_any_joint_but_used_ones_must_exist() {
+        let sets = [(
+            Elements { values: vec![0, 99, 99, 99], components: 4 },
+            Elements { values: vec![1.0, 0.0, 0.0, 0.0], components: 4 },
+        )];
+        assert!(resolve_influences(&sets, &[3], "p").is_ok());
+        let sets = [(
+            Elements { values: vec![0, 99, 0, 0], components: 4 },
+            Elements { values: vec![0.5, 0.5, 0.0, 0.0], components: 4 },
+        )];
+        let err = resolve_influences(&sets, &[3], "mesh 0 primitive 0").err().unwrap().to_string();
+        assert!(err.contains("joint 99") && err.contains("mesh 0 primitive 0"), "{err}");
+    }
+}

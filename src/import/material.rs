@@ -1,0 +1,79 @@
+//! Materials (glTF 2.0 §3.9): the base colour factor and texture, alpha mode and sidedness of
+//! every material, in file order so [`crate::mesh::PrimitiveRange::material`] indexes them.
+//!
+//! Images stay encoded (PNG, JPEG, …) for the browser to decode. An image in a format we cannot
+//! name is dropped with a warning and the material keeps its factor.
+
+use glam::Vec4;
+use gltf_json::material::AlphaMode as JsonAlphaMode;
+use gltf_json::validation::Checked;
+
+use super::accessor::Source;
+use super::container::load_image;
+use super::ImportError;
+use crate::character::{AlphaMode, Material, TextureImage};
+
+/// Every material of the file.
+///
+/// # Errors
+/// Non-finite factors, a missing texture or image, an image URI the resolver cannot serve.
+pub(crate) fn read_materials(
+    src: Source,
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Material>, ImportError> {
+    let mut materials = Vec::with_capacity(src.root.materials.len());
+    for (m, json) in src.root.materials.iter().enumerate() {
+        let name = json.name.clone().unwrap_or_else(|| format!("material {m}"));
+        let invalid = |problem: &str| ImportError::Invalid(format!("material {m} ('{name}') {problem}"));
+        let pbr = &json.pbr_metallic_roughness;
+        let base_color_factor = Vec4::from_array(pbr.base_color_factor.0);
+        if !base_color_factor.is_finite() {
+            return Err(invalid("has a non-finite base colour factor"));
+        }
+        let base_color_texture = match &pbr.base_color_texture {
+            None => None,
+            Some(info) => {
+                let texture = src
+                    .root
+                    .textures
+                    .get(info.index.value())
+                    .ok_or_else(|| invalid("names a missing texture"))?;
+                if info.tex_coord != 0 {
+                    warnings.push(format!(
+                        "material '{name}' uses TEXCOORD_{}; only TEXCOORD_0 is imported",
+                        info.tex_coord
+                    ));
+                }
+                match load_image(src.root, src.buffers, texture.source.value(), resolve)? {
+                    Ok((bytes, mime_type)) => Some(TextureImage { bytes, mime_type }),
+                    Err(reason) => {
+                        warnings.push(format!("material '{name}': {reason}; its texture is dropped"));
+                        None
+                    }
+                }
+            }
+        };
+        let alpha_mode = match json.alpha_mode {
+            Checked::Valid(JsonAlphaMode::Opaque) => AlphaMode::Opaque,
+            Checked::Valid(JsonAlphaMode::Blend) => AlphaMode::Blend,
+            Checked::Valid(JsonAlphaMode::Mask) => {
+                // §3.9.5: the default cutoff is 0.5.
+                let cutoff = json.alpha_cutoff.map_or(0.5, |c| c.0);
+                if !cutoff.is_finite() {
+                    return Err(invalid("has a non-finite alpha cutoff"));
+                }
+                AlphaMode::Mask { cutoff }
+            }
+            Checked::Invalid => return Err(invalid("has an unknown alpha mode")),
+        };
+        materials.push(Material {
+            name,
+            base_color_factor,
+            base_color_texture,
+            alpha_mode,
+            double_sided: json.double_sided,
+        });
+    }
+    Ok(materials)
+}

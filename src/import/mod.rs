@@ -1,0 +1,194 @@
+//! glTF 2.0 import: `.glb` bytes, or `.gltf` JSON plus a resolver for external files, become one
+//! [`Character`] — a merged [`crate::SkinnedMesh`], the [`crate::Skeleton`] that drives it, its
+//! animation clips and materials.
+//!
+//! The pipeline, in the order of this module's files:
+//! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
+//!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else).
+//! 2. `scene`: the node tree of the default scene (scene 0 if none is marked): parents, cycle
+//!    checks, rest transforms, and the skeleton nodes (joints, mesh nodes, their ancestors).
+//! 3. `geometry`: every triangle primitive of every mesh node merged into one indexed mesh in bind
+//!    space. Skinned primitives keep the file's bind-space vertices and remap their joints into
+//!    [`crate::Skeleton::joints`]; rigid meshes get a joint of their own node and are moved into
+//!    bind space (model space at rest), so skinning at rest puts every vertex where the file does.
+//! 4. `clips`: animations as [`crate::Clip`]s over the skeleton nodes.
+//! 5. `material`: materials in file order with their base-colour image bytes.
+//!
+//! Accessors are read by our own code (`accessor`) with every bound checked before allocating.
+//! Bad input yields an [`ImportError`] naming the object at fault; the importer never panics, caps
+//! every count it allocates by, and cannot loop on cyclic node graphs. What it drops or changes on
+//! purpose (points and lines, morph targets, weight channels, …) is listed in
+//! [`Character::warnings`].
+
+mod accessor;
+mod clips;
+mod container;
+mod geometry;
+mod material;
+mod scene;
+
+use gltf_json::validation::Validate;
+use thiserror::Error;
+
+use crate::animation::CurveError;
+use crate::character::Character;
+use accessor::Source;
+
+/// Most vertices (and most indices per accessor) the importer accepts: 2^26 ≈ 67M, far above any
+/// character a browser can draw, and low enough that a forged count cannot exhaust memory.
+pub(crate) const MAX_VERTICES: usize = 1 << 26;
+/// Most indices of the merged mesh (three per triangle).
+pub(crate) const MAX_INDICES: usize = 3 << 26;
+/// Joint indices are `u16` in [`crate::SkinnedMesh::joints`].
+pub(crate) const MAX_JOINTS: usize = 1 << 16;
+/// Most keys of one animation sampler: 2^24 is over 3 days of 60 Hz keys.
+pub(crate) const MAX_KEYS: usize = 1 << 24;
+
+/// Why a file could not be imported. Messages name the glTF object at fault for a user.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum ImportError {
+    /// The GLB header or chunk layout is broken (usually a truncated download).
+    #[error("broken GLB file: {0}")]
+    Glb(String),
+    /// The JSON does not parse as a glTF document.
+    #[error("the glTF JSON does not parse: {0}")]
+    Json(String),
+    /// The document breaks a rule of the glTF spec.
+    #[error("invalid glTF: {0}")]
+    Invalid(String),
+    /// A URI that cannot be decoded.
+    #[error("bad URI '{uri}': {reason}")]
+    BadUri { uri: String, reason: String },
+    /// The resolver had no bytes for an external file.
+    #[error("external file '{0}' was not provided")]
+    MissingResource(String),
+    /// A buffer without URI in a file without GLB binary chunk.
+    #[error("buffer {0} has no URI and there is no GLB binary chunk")]
+    MissingBinChunk(usize),
+    /// A buffer's data is shorter than its declared `byteLength`.
+    #[error("buffer {buffer} declares {declared} bytes but its data has only {actual}")]
+    ShortBuffer { buffer: usize, declared: u64, actual: usize },
+    /// An accessor that cannot be read for its use.
+    #[error("accessor {index} ({usage}) {problem}")]
+    Accessor { index: usize, usage: String, problem: String },
+    /// A node that cannot be placed in the skeleton.
+    #[error("node {node} ('{name}') {problem}")]
+    Node { node: usize, name: String, problem: String },
+    /// A mesh primitive with bad vertex, index or skin data.
+    #[error("{primitive}: {problem}")]
+    Primitive { primitive: String, problem: String },
+    /// An animation channel whose keys do not form a valid curve.
+    #[error("animation '{clip}' channel {channel} ({target}): {source}")]
+    Animation { clip: String, channel: usize, target: String, source: CurveError },
+    /// The merged character would be too large to hold.
+    #[error("{what}: {count} exceeds the limit of {limit}")]
+    TooLarge { what: String, count: u64, limit: u64 },
+    /// The default scene draws no triangles.
+    #[error("the scene has no triangle meshes to show")]
+    NoTriangles,
+}
+
+/// Imports a binary glTF (`.glb`) file.
+///
+/// Buffers and images must be inside the file (binary chunk or `data:` URIs): an external URI
+/// yields [`ImportError::MissingResource`]. Use [`from_bytes`] with a resolver for those.
+///
+/// # Errors
+/// Any [`ImportError`]: broken container, invalid JSON, out-of-range data, …
+pub fn from_glb(bytes: &[u8]) -> Result<Character, ImportError> {
+    let glb = container::split_glb(bytes)?;
+    import(glb.json, glb.bin, &mut |_| None)
+}
+
+/// Imports a JSON glTF (`.gltf`) file.
+///
+/// `resolve` is called with each external URI as written in the file, percent-decoded (relative
+/// paths stay relative: the caller knows what they are relative to), and returns the file's bytes
+/// or `None` when it has none. `data:` URIs are decoded here and never passed to it.
+///
+/// # Errors
+/// Any [`ImportError`]; a URI the resolver cannot serve gives [`ImportError::MissingResource`].
+pub fn from_gltf(
+    json: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+) -> Result<Character, ImportError> {
+    import(json, None, resolve)
+}
+
+/// Imports either form, telling GLB (magic `glTF`) from JSON by the first bytes.
+///
+/// # Errors
+/// As [`from_glb`] and [`from_gltf`].
+pub fn from_bytes(
+    bytes: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+) -> Result<Character, ImportError> {
+    if bytes.starts_with(container::GLB_MAGIC) {
+        let glb = container::split_glb(bytes)?;
+        import(glb.json, glb.bin, resolve)
+    } else {
+        import(bytes, None, resolve)
+    }
+}
+
+/// Parses the JSON with `gltf-json` (the `gltf` crate's document model) and runs its validation (references in range, enums
+/// known, required fields present).
+fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
+    // A UTF-8 byte order mark is not JSON, but some tools write one.
+    let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
+    let root: gltf_json::Root =
+        gltf_json::deserialize::from_slice(json).map_err(|e| ImportError::Json(e.to_string()))?;
+    // gltf-json's primitive check indexes `accessors[POSITION]` without a bounds check: make sure
+    // that index exists before running it.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &prim.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    return Err(ImportError::Invalid(format!(
+                        "meshes[{m}].primitives[{p}].attributes[{semantic:?}] names accessor {} of {}",
+                        accessor.value(),
+                        root.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    let mut errors = Vec::new();
+    root.validate(&root, gltf_json::Path::new, &mut |path, error| {
+        let path = path();
+        // POSITION's min/max are required by the spec but only serve culling; we compute bounds
+        // ourselves, so files that omit them still load.
+        if !(path.as_str().ends_with(".min") || path.as_str().ends_with(".max")) {
+            errors.push((path, error));
+        }
+    });
+    match errors.first() {
+        None => Ok(root),
+        Some((path, error)) => {
+            let more = match errors.len() {
+                1 => String::new(),
+                n => format!(" (and {} more problems)", n - 1),
+            };
+            Err(ImportError::Invalid(format!("{}: {error}{more}", path.as_str())))
+        }
+    }
+}
+
+/// The whole pipeline; see the module docs.
+fn import(
+    json: &[u8],
+    bin: Option<&[u8]>,
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+) -> Result<Character, ImportError> {
+    let root = parse_document(json)?;
+    let buffers = container::load_buffers(&root, bin, resolve)?;
+    let src = Source { root: &root, buffers: &buffers };
+    let mut warnings = Vec::new();
+
+    let graph = scene::SceneGraph::new(&root)?;
+    let (mut skeleton, slots) = graph.skeleton(&root)?;
+    let mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut warnings)?;
+    let clips = clips::read_clips(src, &slots, &mut warnings)?;
+    let materials = material::read_materials(src, resolve, &mut warnings)?;
+    Ok(Character { mesh, skeleton, clips, materials, warnings })
+}

@@ -1,0 +1,355 @@
+//! Geometric error between two triangle meshes: the symmetric surface distance by sampling
+//! (the measure of Cignoni et al.'s Metro, 1998), used to compare LOD builders.
+//!
+//! Points are sampled uniformly by area on each surface (a seeded SplitMix64 stream, so two runs
+//! with the same seed and count see the same points), and each sample's distance to the other
+//! surface is exact (closest point on the nearest triangle, found through a uniform grid). The
+//! result is symmetric: the mean of both directions' means, and the larger of both directions'
+//! maxima (the sampled Hausdorff distance). Distances are in the meshes' units; divide by
+//! [`bounds_diagonal`] for a percentage of the model's size.
+
+use glam::Vec3;
+
+/// Distances between two surfaces in both directions; see the module docs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceDistance {
+    /// Mean over the samples of both surfaces.
+    pub mean: f32,
+    /// The largest sample distance in either direction (sampled Hausdorff distance).
+    pub hausdorff: f32,
+}
+
+/// Length of the diagonal of the bounding box of `positions` (0 when empty).
+pub fn bounds_diagonal(positions: &[Vec3]) -> f32 {
+    if positions.is_empty() {
+        return 0.0;
+    }
+    let (lo, hi) = positions.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    (hi - lo).length()
+}
+
+/// Symmetric surface distance between mesh `a` and mesh `b`, from `samples` points on each.
+///
+/// Returns `None` when either mesh has no triangle of positive area (the distance is undefined).
+/// Indices must be in range.
+pub fn surface_distance(
+    a: (&[Vec3], &[u32]),
+    b: (&[Vec3], &[u32]),
+    samples: usize,
+    seed: u64,
+) -> Option<SurfaceDistance> {
+    let on_a = sample_surface(a.0, a.1, samples, seed)?;
+    let on_b = sample_surface(b.0, b.1, samples, seed ^ 0x9e37_79b9_7f4a_7c15)?;
+    let (mean_ab, max_ab) = one_way(&on_a, &TriangleGrid::new(b.0, b.1));
+    let (mean_ba, max_ba) = one_way(&on_b, &TriangleGrid::new(a.0, a.1));
+    Some(SurfaceDistance { mean: 0.5 * (mean_ab + mean_ba), hausdorff: max_ab.max(max_ba) })
+}
+
+fn one_way(points: &[Vec3], grid: &TriangleGrid) -> (f32, f32) {
+    let mut sum = 0.0f64;
+    let mut max = 0.0f32;
+    let mut query = GridQuery::new(grid);
+    for &p in points {
+        let d = query.distance(p);
+        sum += d as f64;
+        max = max.max(d);
+    }
+    ((sum / points.len().max(1) as f64) as f32, max)
+}
+
+/// The SplitMix64 generator: tiny, seedable, and the same on every platform.
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` (`n > 0`; the modulo bias is below 2⁻³² for any `n < 2³²`).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
+    /// Uniform in `[0, 1)` with 24 bits of precision.
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+    }
+}
+
+/// `count` points uniformly distributed by area over the triangles; `None` if the total area is 0.
+pub fn sample_surface(positions: &[Vec3], indices: &[u32], count: usize, seed: u64) -> Option<Vec<Vec3>> {
+    let corners = |t: &[u32]| [positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]];
+    let mut cumulative = Vec::with_capacity(indices.len() / 3);
+    let mut total = 0.0f64;
+    for t in indices.chunks_exact(3) {
+        let [p0, p1, p2] = corners(t);
+        total += 0.5 * (p1 - p0).cross(p2 - p0).length() as f64;
+        cumulative.push(total);
+    }
+    if total <= 0.0 || !total.is_finite() {
+        return None;
+    }
+    let mut rng = SplitMix64(seed);
+    let points = (0..count)
+        .map(|_| {
+            let pick = rng.next_u64() as f64 / u64::MAX as f64 * total;
+            let tri = cumulative.partition_point(|&c| c <= pick).min(cumulative.len() - 1);
+            let [p0, p1, p2] = corners(&indices[3 * tri..3 * tri + 3]);
+            // Uniform barycentrics: fold the unit square onto the triangle.
+            let (mut u, mut v) = (rng.next_f32(), rng.next_f32());
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            p0 + u * (p1 - p0) + v * (p2 - p0)
+        })
+        .collect();
+    Some(points)
+}
+
+/// Closest point to `p` on triangle `abc` (Ericson, Real-Time Collision Detection §5.1.5).
+pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = va + vb + vc;
+    if denom.abs() <= f32::MIN_POSITIVE {
+        // Degenerate (zero-area) triangle: its closest point is on one of its edges.
+        return [(a, b), (b, c), (c, a)]
+            .into_iter()
+            .map(|(s, e)| closest_point_on_segment(p, s, e))
+            .min_by(|x, y| x.distance_squared(p).total_cmp(&y.distance_squared(p)))
+            .unwrap_or(a);
+    }
+    let (v, w) = (vb / denom, vc / denom);
+    a + ab * v + ac * w
+}
+
+fn closest_point_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    if len2 == 0.0 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+}
+
+/// Triangles bucketed into a uniform grid over their bounds, for nearest-triangle queries.
+struct TriangleGrid<'a> {
+    positions: &'a [Vec3],
+    indices: &'a [u32],
+    origin: Vec3,
+    cell: f32,
+    dims: [usize; 3],
+    /// CSR layout: triangles of cell `c` are `items[starts[c]..starts[c + 1]]`.
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl<'a> TriangleGrid<'a> {
+    fn new(positions: &'a [Vec3], indices: &'a [u32]) -> Self {
+        let triangles = indices.len() / 3;
+        let used = indices.iter().map(|&i| positions[i as usize]);
+        let (lo, hi) = used.fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        let extent = (hi - lo).max(Vec3::splat(1e-6));
+        // About two triangles per cell: fewer cells make queries scan long lists, more cells make
+        // empty space expensive to cross. The cap keeps memory bounded for huge or flat meshes.
+        let target_cells = (triangles as f32 / 2.0).clamp(1.0, 4_000_000.0);
+        let cell = (extent.x * extent.y * extent.z / target_cells).cbrt().max(extent.max_element() / 256.0);
+        let dims = (extent / cell).ceil().max(Vec3::ONE).to_array().map(|d| d as usize);
+        let mut grid =
+            Self { positions, indices, origin: lo, cell, dims, starts: Vec::new(), items: Vec::new() };
+        let mut counts = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
+        for pass in 0..2 {
+            if pass == 1 {
+                let mut sum = 0;
+                for c in counts.iter_mut() {
+                    let n = *c;
+                    *c = sum;
+                    sum += n;
+                }
+                grid.starts = counts.clone();
+                grid.items = vec![0; sum as usize];
+            }
+            for t in 0..triangles {
+                let (tlo, thi) = grid.triangle_cells(t);
+                for z in tlo[2]..=thi[2] {
+                    for y in tlo[1]..=thi[1] {
+                        for x in tlo[0]..=thi[0] {
+                            let c = grid.cell_index([x, y, z]);
+                            if pass == 0 {
+                                counts[c] += 1;
+                            } else {
+                                grid.items[counts[c] as usize] = t as u32;
+                                counts[c] += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        grid
+    }
+
+    fn corners(&self, t: usize) -> [Vec3; 3] {
+        let i = &self.indices[3 * t..3 * t + 3];
+        [self.positions[i[0] as usize], self.positions[i[1] as usize], self.positions[i[2] as usize]]
+    }
+
+    fn cell_of(&self, p: Vec3) -> [usize; 3] {
+        let q = ((p - self.origin) / self.cell).floor();
+        [0, 1, 2].map(|k| (q[k].max(0.0) as usize).min(self.dims[k] - 1))
+    }
+
+    fn triangle_cells(&self, t: usize) -> ([usize; 3], [usize; 3]) {
+        let [a, b, c] = self.corners(t);
+        (self.cell_of(a.min(b).min(c)), self.cell_of(a.max(b).max(c)))
+    }
+
+    fn cell_index(&self, [x, y, z]: [usize; 3]) -> usize {
+        (z * self.dims[1] + y) * self.dims[0] + x
+    }
+}
+
+/// A reusable nearest-triangle search over one grid (keeps its visit stamps between queries).
+struct GridQuery<'g, 'a> {
+    grid: &'g TriangleGrid<'a>,
+    stamp: Vec<u32>,
+    round: u32,
+}
+
+impl<'g, 'a> GridQuery<'g, 'a> {
+    fn new(grid: &'g TriangleGrid<'a>) -> Self {
+        Self { grid, stamp: vec![0; grid.indices.len() / 3], round: 0 }
+    }
+
+    /// Distance from `p` to the nearest triangle, searching rings of cells outwards until no
+    /// unvisited cell can be closer than the best distance found.
+    fn distance(&mut self, p: Vec3) -> f32 {
+        self.round += 1;
+        let g = self.grid;
+        let c = g.cell_of(p);
+        let mut best = f32::INFINITY;
+        let max_ring = g.dims.iter().copied().max().unwrap_or(1);
+        for ring in 0..=max_ring {
+            // Cells at Chebyshev ring r are at least (r - 1) cells away from p's cell.
+            if best <= (ring as f32 - 1.0).max(0.0) * g.cell {
+                break;
+            }
+            let lo = c.map(|v| v as isize - ring as isize);
+            let hi = c.map(|v| v as isize + ring as isize);
+            for z in lo[2].max(0)..=hi[2].min(g.dims[2] as isize - 1) {
+                for y in lo[1].max(0)..=hi[1].min(g.dims[1] as isize - 1) {
+                    let on_shell_zy = z == lo[2] || z == hi[2] || y == lo[1] || y == hi[1];
+                    for x in lo[0].max(0)..=hi[0].min(g.dims[0] as isize - 1) {
+                        if !on_shell_zy && x != lo[0] && x != hi[0] {
+                            continue;
+                        }
+                        let cell = g.cell_index([x as usize, y as usize, z as usize]);
+                        for &t in &g.items[g.starts[cell] as usize..g.starts[cell + 1] as usize] {
+                            if self.stamp[t as usize] == self.round {
+                                continue;
+                            }
+                            self.stamp[t as usize] = self.round;
+                            let [a, b, cc] = g.corners(t as usize);
+                            best = best.min(closest_point_on_triangle(p, a, b, cc).distance(p));
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn quad(z: f32) -> (Vec<Vec3>, Vec<u32>) {
+        let p = vec![
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(1.0, 0.0, z),
+            Vec3::new(1.0, 1.0, z),
+            Vec3::new(0.0, 1.0, z),
+        ];
+        (p, vec![0, 1, 2, 0, 2, 3])
+    }
+
+    #[test]
+    fn identical_surfaces_are_zero_apart() {
+        let (p, i) = quad(0.0);
+        let d = surface_distance((&p, &i), (&p, &i), 500, 7).unwrap();
+        assert!(d.mean < 1e-6 && d.hausdorff < 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn parallel_quads_are_their_offset_apart() {
+        let (a, ia) = quad(0.0);
+        let (b, ib) = quad(0.25);
+        let d = surface_distance((&a, &ia), (&b, &ib), 500, 7).unwrap();
+        assert!((d.mean - 0.25).abs() < 1e-6 && (d.hausdorff - 0.25).abs() < 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn a_missing_half_shows_in_the_hausdorff_distance() {
+        let (a, ia) = quad(0.0);
+        // Only the triangle (0,1,2): points near the corner (0,1) are ~0.707 from it.
+        let d = surface_distance((&a, &ia), (&a, &ia[..3]), 4000, 3).unwrap();
+        assert!(d.hausdorff > 0.6 && d.hausdorff <= std::f32::consts::FRAC_1_SQRT_2 + 1e-6, "{d:?}");
+        assert!(d.mean > 0.0 && d.mean < 0.2, "{d:?}");
+    }
+
+    #[test]
+    fn closest_points_on_regions_of_a_triangle() {
+        let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        let inside = closest_point_on_triangle(Vec3::new(0.25, 0.25, 1.0), a, b, c);
+        assert!(inside.abs_diff_eq(Vec3::new(0.25, 0.25, 0.0), 1e-7), "{inside:?}");
+        assert_eq!(closest_point_on_triangle(Vec3::new(-1.0, -1.0, 0.0), a, b, c), a);
+        assert_eq!(closest_point_on_triangle(Vec3::new(0.5, -1.0, 0.0), a, b, c), Vec3::new(0.5, 0.0, 0.0));
+        assert_eq!(closest_point_on_triangle(Vec3::new(1.0, 1.0, 0.0), a, b, c), Vec3::new(0.5, 0.5, 0.0));
+    }
+
+    #[test]
+    fn empty_or_flat_meshes_have_no_distance() {
+        let (a, ia) = quad(0.0);
+        assert!(surface_distance((&a, &ia), (&a, &[]), 10, 1).is_none());
+        assert!(surface_distance((&a, &ia), (&a, &[0, 1, 1]), 10, 1).is_none());
+    }
+
+    #[test]
+    fn samples_repeat_for_a_seed() {
+        let (a, ia) = quad(0.0);
+        assert_eq!(sample_surface(&a, &ia, 50, 11), sample_surface(&a, &ia, 50, 11));
+        assert_ne!(sample_surface(&a, &ia, 50, 11), sample_surface(&a, &ia, 50, 12));
+    }
+}

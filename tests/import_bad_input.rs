@@ -1,0 +1,294 @@
+//! The importer on a tiny hand-built skinned triangle (tests/common `TinyModel`): the valid file
+//! imports to exact numbers, and each kind of broken input is an `Err` whose message names the
+//! problem.
+
+mod common;
+
+use clod_viewer::import::{from_bytes, from_glb, from_gltf};
+use clod_viewer::{Character, ImportError};
+use common::{tiny, SplitMix, TinyModel};
+use glam::{Mat4, Vec3};
+use gltf_json::Value;
+
+fn import(model: &TinyModel) -> Result<Character, ImportError> {
+    from_gltf(&model.gltf(), &mut |_| None)
+}
+
+/// Imports `model` and returns the error message, failing if it imports.
+fn error_of(model: &TinyModel) -> String {
+    match import(model) {
+        Ok(_) => panic!("the broken model imported"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_mentions(message: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(message.contains(part), "message {message:?} does not mention {part:?}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn tiny_model_imports_exactly() {
+    let model = TinyModel::new();
+    let c = import(&model).unwrap();
+    assert_eq!(from_glb(&model.glb()).unwrap(), c);
+    assert_eq!(c.mesh.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
+    assert_eq!(c.mesh.indices, vec![0, 1, 2]);
+    assert_eq!(c.mesh.weights, vec![[1.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]]);
+    assert_eq!(c.mesh.joints, vec![[0, 0, 0, 0], [0, 1, 0, 0], [1, 0, 0, 0]]);
+    // No NORMAL in the file: the face normal of a counter-clockwise triangle in the xy plane.
+    assert_eq!(c.mesh.normals, vec![Vec3::Z; 3]);
+    let names: Vec<&str> = c.skeleton.nodes.iter().map(|n| n.name.as_str()).collect();
+    assert_eq!(names, ["root", "tip", "tri"]);
+    assert_eq!(c.skeleton.nodes[1].parent, Some(0));
+    assert_eq!(c.skeleton.joints[1].joint_from_bind, Mat4::from_translation(-Vec3::Y));
+    assert_eq!(c.clips[0].name, "clip 0");
+    // Half-way through the clip `tip` is at (0.5, 1, 0): vertex 2 (all `tip`) follows it, vertex 1
+    // (half `tip`) moves half as far.
+    let skinned = c.skinned_positions(&c.pose_at(&c.clips[0], 0.5));
+    assert_eq!(skinned, vec![Vec3::ZERO, Vec3::new(1.25, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn unskinned_mesh_under_a_joint_is_bound_rigidly() {
+    // The mesh moves under `tip` without skin: its vertices go to bind (model) space at rest, with
+    // a joint of its own node, and skinning at rest puts them back.
+    let mut model = TinyModel::new();
+    model.json["nodes"][1]["children"] = Value::from(vec![3]);
+    let prop = r#"{"name": "prop", "mesh": 1, "translation": [2, 0, 0], "scale": [1, -1, 1]}"#;
+    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(prop).unwrap());
+    let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
+    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
+    let c = import(&model).unwrap();
+    assert_eq!(c.mesh.vertex_count(), 6);
+    // Depth-first scene order: `prop` (under root/tip) comes before `tri`.
+    assert_eq!(c.mesh.primitives.len(), 2);
+    // prop's rest model_from_node: translate (2, 1, 0), mirror y.
+    assert_eq!(
+        &c.mesh.positions[..3],
+        &[Vec3::new(2.0, 1.0, 0.0), Vec3::new(3.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0)]
+    );
+    // The mirror flips the winding back so the face keeps facing the same way.
+    assert_eq!(&c.mesh.indices[..3], &[0, 2, 1]);
+    let joint = c.mesh.joints[0][0] as usize;
+    assert!(c.mesh.joints[..3].iter().all(|j| *j == [joint as u16, 0, 0, 0]));
+    assert_eq!(c.mesh.weights[0], [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(c.skeleton.nodes[c.skeleton.joints[joint].node].name, "prop");
+    assert_eq!(c.skeleton.joints.len(), 3);
+    let rest = c.skinned_positions(&c.skeleton.rest_pose());
+    for (a, b) in rest.iter().zip(&c.mesh.positions) {
+        assert!(a.distance(*b) < 1e-6, "{a} vs {b}");
+    }
+    // Half-way through the clip `tip` moved by +0.5 in x, and the prop with it.
+    let mid = c.skinned_positions(&c.pose_at(&c.clips[0], 0.5));
+    assert!(mid[0].distance(Vec3::new(2.5, 1.0, 0.0)) < 1e-6, "{}", mid[0]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn strips_points_and_morph_targets() {
+    let mut model = TinyModel::new();
+    model.json["meshes"][0]["primitives"][0]["mode"] = Value::from(5); // TRIANGLE_STRIP
+    let mut points = model.json["meshes"][0]["primitives"][0].clone();
+    points["mode"] = Value::from(0);
+    model.json["meshes"][0]["primitives"].as_array_mut().unwrap().push(points);
+    let target: Value = gltf_json::deserialize::from_str(r#"[{"POSITION": 0}]"#).unwrap();
+    model.json["meshes"][0]["primitives"][0]["targets"] = target;
+    let c = import(&model).unwrap();
+    assert_eq!(c.mesh.indices, vec![0, 1, 2]);
+    assert_eq!(c.warnings.len(), 2, "{:?}", c.warnings);
+    assert_mentions(&c.warnings[0], &["morph targets"]);
+    assert_mentions(&c.warnings[1], &["primitive 1", "Points", "skipped"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn truncated_glb() {
+    let glb = TinyModel::new().glb();
+    for len in [0, 5, 12, 20, glb.len() / 2, glb.len() - 1] {
+        let err = from_glb(&glb[..len]).unwrap_err().to_string();
+        assert_mentions(&err, &["GLB"]);
+    }
+    let err = from_glb(&glb[..glb.len() - 1]).unwrap_err().to_string();
+    assert_mentions(&err, &["truncated"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn random_bytes_and_bad_json() {
+    let mut rng = SplitMix(7);
+    for len in [1, 10, 100, 1000] {
+        let bytes: Vec<u8> = (0..len).map(|_| rng.next_u64() as u8).collect();
+        let err = from_bytes(&bytes, &mut |_| None).unwrap_err().to_string();
+        assert_mentions(&err, &["JSON"]);
+    }
+    let err = from_gltf(br#"{"asset": {"version": "2.0"}, "nodes": [{"#, &mut |_| None).unwrap_err();
+    assert_mentions(&err.to_string(), &["does not parse"]);
+    let err =
+        from_gltf(br#"{"asset": {"version": "2.0"}, "nodes": [{"mesh": 3}]}"#, &mut |_| None).unwrap_err();
+    assert_mentions(&err.to_string(), &["invalid glTF", "nodes[0].mesh"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn out_of_range_vertex_index() {
+    let mut model = TinyModel::new();
+    model.bin[tiny::INDICES + 2..tiny::INDICES + 4].copy_from_slice(&7u16.to_le_bytes());
+    assert_mentions(&error_of(&model), &["mesh 0 ('tri') primitive 0", "index 7", "out of range"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn out_of_range_joint_index() {
+    let mut model = TinyModel::new();
+    model.bin[tiny::JOINTS + 5] = 9; // vertex 1's second influence (weight 0.5)
+    assert_mentions(&error_of(&model), &["primitive 0", "vertex 1", "joint 9", "2 joints"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn accessor_larger_than_its_buffer_view() {
+    let mut model = TinyModel::new();
+    model.json["accessors"][0]["count"] = Value::from(1000);
+    let msg = error_of(&model);
+    assert_mentions(
+        &msg,
+        &["accessor 0 (POSITION of mesh 0 ('tri') primitive 0)", "needs 12000 bytes", "has 36"],
+    );
+    // A stride larger than the view, and a stride smaller than an element.
+    let mut model = TinyModel::new();
+    model.json["bufferViews"][0]["byteStride"] = Value::from(16);
+    assert_mentions(&error_of(&model), &["needs 44 bytes but buffer view 0 has 36"]);
+    let mut model = TinyModel::new();
+    model.json["bufferViews"][3]["byteStride"] = Value::from(8);
+    assert_mentions(&error_of(&model), &["WEIGHTS_0", "byte stride of 8"]);
+    // A buffer view past the end of its buffer.
+    let mut model = TinyModel::new();
+    model.json["bufferViews"][6]["byteLength"] = Value::from(64);
+    assert_mentions(&error_of(&model), &["buffer view 6", "264 bytes"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn non_finite_values() {
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::POSITIONS + 12, &[f32::NAN]);
+    assert_mentions(&error_of(&model), &["vertex 1", "non-finite position"]);
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::WEIGHTS + 16, &[f32::INFINITY]);
+    assert_mentions(&error_of(&model), &["vertex 1", "weight inf"]);
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::INVERSE_BINDS + 64, &[f32::NAN]);
+    assert_mentions(&error_of(&model), &["inverse bind matrices of skin 0", "non-finite"]);
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::TRANSLATIONS + 12, &[f32::NAN]);
+    assert_mentions(
+        &error_of(&model),
+        &["animation 'clip 0' channel 0", "translation of node 'tip'", "non-finite"],
+    );
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn all_zero_weights() {
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::WEIGHTS, &[0.0]);
+    assert_mentions(&error_of(&model), &["mesh 0 ('tri') primitive 0", "vertex 0", "all zero"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn node_cycles() {
+    // tip -> root -> tip, reachable from the scene.
+    let mut model = TinyModel::new();
+    model.json["nodes"][1]["children"] = Value::from(vec![0]);
+    assert_mentions(&error_of(&model), &["cycle"]);
+    // A node that is its own child.
+    let mut model = TinyModel::new();
+    model.json["nodes"][1]["children"] = Value::from(vec![1]);
+    assert_mentions(&error_of(&model), &["node 1 ('tip')", "its own child"]);
+    // A cycle outside the scene that a skin joint hangs from.
+    let mut model = TinyModel::new();
+    let extra: Value = gltf_json::deserialize::from_str(r#"[{"children": [4]}, {"children": [3]}]"#).unwrap();
+    model.json["nodes"].as_array_mut().unwrap().extend(extra.as_array().unwrap().iter().cloned());
+    model.json["nodes"][4]["children"] = Value::from(vec![3, 0]);
+    assert_mentions(&error_of(&model), &["cycle"]);
+    // A node with two parents.
+    let mut model = TinyModel::new();
+    model.json["nodes"][2]["children"] = Value::from(vec![1]);
+    assert_mentions(&error_of(&model), &["node 1 ('tip')", "child of both node 0 and node 2"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn absurd_counts() {
+    for accessor in 0..7 {
+        let mut model = TinyModel::new();
+        model.json["accessors"][accessor]["count"] = Value::from(1u64 << 40);
+        let msg = error_of(&model);
+        assert_mentions(&msg, &[&format!("accessor {accessor} ("), "more than the limit"]);
+    }
+    // A sparse accessor without buffer view: zeros that no file bytes back.
+    let mut model = TinyModel::new();
+    let sparse: Value = gltf_json::deserialize::from_str(
+        r#"{"count": 1, "indices": {"bufferView": 1, "componentType": 5123}, "values": {"bufferView": 0}}"#,
+    )
+    .unwrap();
+    model.json["accessors"][6] =
+        gltf_json::deserialize::from_str(r#"{"componentType": 5126, "count": 10000000, "type": "VEC3"}"#)
+            .unwrap();
+    model.json["accessors"][6]["sparse"] = sparse;
+    assert_mentions(
+        &error_of(&model),
+        &["accessor 6 (key values of animation 'clip 0' channel 0)", "no buffer view"],
+    );
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn sparse_accessors_substitute_and_check_their_indices() {
+    // Replace key value 1 of the animation with (0, 1, 0), the value at key 0, via sparse data
+    // that reuses the position view (vertex 2 is (0, 1, 0)) and an index buffer of one u16 = 1.
+    let mut model = TinyModel::new();
+    let sparse: Value = gltf_json::deserialize::from_str(
+        r#"{"count": 1, "indices": {"bufferView": 1, "byteOffset": 2, "componentType": 5123},
+            "values": {"bufferView": 0, "byteOffset": 24}}"#,
+    )
+    .unwrap();
+    model.json["accessors"][6]["sparse"] = sparse.clone();
+    let c = import(&model).unwrap();
+    let mid = c.skinned_positions(&c.pose_at(&c.clips[0], 0.5));
+    assert_eq!(mid[2], Vec3::Y, "the clip no longer moves the tip");
+    // Sparse index 2 is out of range for a two-key accessor.
+    model.json["accessors"][6]["sparse"]["indices"]["byteOffset"] = Value::from(4);
+    assert_mentions(&error_of(&model), &["accessor 6", "sparse index 2", "out of range"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn bad_animation_keys_and_missing_resources() {
+    let mut model = TinyModel::new();
+    model.put_f32s(tiny::TIMES, &[2.0]);
+    model.json["animations"][0]["name"] = Value::from("wave");
+    assert_mentions(
+        &error_of(&model),
+        &["animation 'wave' channel 0 (translation of node 'tip')", "backwards"],
+    );
+    let mut model = TinyModel::new();
+    model.json["accessors"][6]["count"] = Value::from(1);
+    assert_mentions(&error_of(&model), &["animation 'clip 0' channel 0", "2 key times but 1 values"]);
+    // An external buffer the resolver does not have.
+    let mut json = TinyModel::new().json;
+    json["buffers"][0]["uri"] = Value::from("missing%20file.bin");
+    let text = gltf_json::serialize::to_vec(&json).unwrap();
+    let err = from_gltf(&text, &mut |_| None).unwrap_err();
+    assert_eq!(err, ImportError::MissingResource("missing file.bin".into()));
+    assert_mentions(&err.to_string(), &["'missing file.bin'"]);
+    // A buffer shorter than it says.
+    let mut model = TinyModel::new();
+    model.bin.truncate(100);
+    assert_mentions(&error_of(&model), &["buffer 0 declares 264 bytes", "only 100"]);
+}
