@@ -1,6 +1,7 @@
 //! Progressive-mesh invariants on seeded random meshes: validity at every checked level, lossless
 //! refinement, monotone error, ancestors, incremental cursor == rebuild, determinism.
 
+mod common;
 mod meshgen;
 
 use clod_viewer::simplify::{CollapseMode, SimplifyOptions, StopReason};
@@ -142,6 +143,47 @@ fn simplification_is_deterministic_and_set_triangle_count_matches() {
         }
         if k > 0 {
             assert!(a.triangle_count_after(k - 1) > target, "not the finest level for {target}");
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn real_models_keep_every_invariant() {
+    for name in ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"] {
+        let Some(bytes) = common::model_bytes(name) else { continue };
+        let character = clod_viewer::import::from_glb(&bytes).expect("shared models import");
+        let m = &character.mesh;
+        // Normals and uv as attributes, one material per primitive.
+        let mut mesh = Mesh {
+            positions: m.positions.clone(),
+            weights: vec![0.1, 0.1, 0.1, 1.0, 1.0],
+            indices: m.indices.clone(),
+            ..Mesh::default()
+        };
+        for (v, n) in m.normals.iter().enumerate() {
+            let uv = m.uvs.as_ref().map_or([0.0, 0.0], |uvs| uvs[v].to_array());
+            mesh.attributes.extend_from_slice(&[n.x, n.y, n.z, uv[0], uv[1]]);
+        }
+        mesh.materials = vec![0; m.indices.len() / 3];
+        for (p, range) in m.primitives.iter().enumerate() {
+            let first = range.first_index as usize / 3;
+            for t in first..first + range.index_count as usize / 3 {
+                mesh.materials[t] = p as u32;
+            }
+        }
+        for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+            let pm = mesh.simplify(&mode_options(mode));
+            let k = pm.collapse_count();
+            assert!(k > 0, "{name} {mode:?}: nothing simplified");
+            check_invariants(&mesh, &pm, &spread_levels(&pm, 8), false);
+            check_cursor(&pm, &shuffled_levels(&pm, 8, 3));
+            println!(
+                "{name} {mode:?}: {} -> {} triangles ({:?})",
+                m.indices.len() / 3,
+                pm.triangle_count_after(k),
+                pm.stop
+            );
         }
     }
 }

@@ -554,8 +554,12 @@ impl<'a> Engine<'a> {
         }
         if self.kind[u as usize].on_line() {
             for &x in &opposite[..count] {
-                // Two constraint edges of one triangle would merge into one.
-                if self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
+                // Two constraint edges of one triangle would merge into one, changing the
+                // number of lines at v and x (a line vertex would become a line end). Harmless
+                // when both are locked anyway: that only closes a chart corner or a border ear.
+                let both_locked =
+                    self.kind[v as usize] == Kind::Locked && self.kind[x as usize] == Kind::Locked;
+                if !both_locked && self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
                     return false;
                 }
             }
