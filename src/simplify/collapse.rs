@@ -5,31 +5,25 @@
 //! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
 //! along it), so seams stay closed. Placement ([`Placement`]): interior–interior edges get the
 //! quadric minimiser, line–line edges (along a border, seam or material line) the best point of
-//! the edge, everything else (and every half-edge collapse) keeps `v`'s position.
+//! the edge, everything else (corners, locked vertices, and every half-edge collapse) keeps `v`'s
+//! position.
 //!
-//! The queue is a binary heap keyed by (cost, u, v) — a total order, so the collapse sequence is
-//! deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
+//! The queue (`queue.rs`) is a heap keyed by (cost, u, v) — a total order, so the collapse
+//! sequence is deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
 //! check marks both ends *parked*; when a later collapse changes a parked class's neighbourhood,
 //! its edges are queued again.
 
-use super::quadric::{Quadric, TriangleFrame};
-use super::topology::{
-    classify, other_corners, position_classes, Constraint, CornerLists, Kind, PositionClasses, NONE,
-};
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::quadric::Quadric;
+use super::queue::{Candidate, Queue};
+use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
+use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 
-/// Penalty-plane weight (× edge length², so it scales like the area-weighted face quadrics) for
-/// mesh borders and material borders. Moving a border vertex by δ across its border then costs
-/// about 10 × δ² per unit of area, an order of magnitude more than bending the surface by δ:
-/// silhouettes and material outlines go last (Garland & Heckbert 1997 use a similar weight).
-const BORDER_WEIGHT: f64 = 10.0;
-/// Penalty weight for attribute seams: they are not geometric boundaries, so they only weigh as
-/// much as the surface; their attribute quadrics carry the rest.
-const SEAM_WEIGHT: f64 = 1.0;
 /// A triangle may not face away from the input triangle it descends from: the cosine between its
 /// normal and that input normal must exceed this (≈ 89.9°). Turning past 90° is what makes a
 /// back face out of a front face (a fold); the small margin keeps the decision stable under
@@ -56,40 +50,21 @@ struct Plan {
     v: u32,
     p: DVec3,
     cost: f64,
-    distance: f64,
     placement: Placement,
-}
-
-/// Heap entry; `Ord` is reversed so that `BinaryHeap` pops the smallest (cost, u, v).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Entry {
-    /// `f64::to_bits` of a non-negative cost: integer order equals numeric order.
-    cost: u64,
-    u: u32,
-    v: u32,
-    version_u: u32,
-    version_v: u32,
-}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        (other.cost, other.u, other.v).cmp(&(self.cost, self.u, self.v))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
 }
 
 /// Runs the whole simplification on validated input.
 pub(crate) fn run(input: &SimplifyInput, options: &SimplifyOptions) -> CollapseLog {
     let mut engine = Engine::new(input, options);
     engine.queue_all_edges();
-    let stop = engine.collapse_until(options.target_triangles, options.max_error as f64);
+    let stop = engine.collapse_until(options.target_triangles, options.max_error);
     engine.log.stop = stop;
     engine.log
+}
+
+/// Low 16 bits of both versions.
+fn stamp(version_u: u32, version_v: u32) -> u32 {
+    (version_u & 0xFFFF) | (version_v << 16)
 }
 
 struct Engine<'a> {
@@ -108,8 +83,10 @@ struct Engine<'a> {
     triangle_alive: Vec<bool>,
     live_triangles: usize,
     position: Vec<DVec3>,
+    /// Geometric quadric per class (face and penalty planes).
     geometric: Vec<Quadric>,
-    appearance: Vec<Quadric>,
+    /// Geometric plus attribute quadric per class; its weight is the geometric weight.
+    total: Vec<Quadric>,
     /// Per wedge: `[Σ area, then per channel Σ area·w·g (3), Σ area·w·d]`, stride `1 + 4m`.
     wedge_sums: Vec<f64>,
     wedge_attributes: Vec<f32>,
@@ -118,7 +95,9 @@ struct Engine<'a> {
     version: Vec<u32>,
     parked: Vec<bool>,
     // Queue.
-    heap: BinaryHeap<Entry>,
+    queue: Queue,
+    /// Queue length after the last purge of stale entries.
+    purged_length: usize,
     // Scratch (reused, never reallocated once grown).
     mark: Vec<u32>,
     stamp: u32,
@@ -140,7 +119,7 @@ impl<'a> Engine<'a> {
         let classes = position_classes(positions, indices);
         let class_count = classes.count();
         let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
-        let (kind, sides) = classify(&classes, &lists, indices, input.triangle_materials);
+        let (kind, sides) = classify(&classes, positions, &lists, indices, input.triangle_materials);
         let position: Vec<DVec3> =
             classes.representative.iter().map(|&v| positions[v as usize].as_dvec3()).collect();
         let corner_point = |corner: usize| positions[indices[corner] as usize].as_dvec3();
@@ -151,88 +130,11 @@ impl<'a> Engine<'a> {
             })
             .collect();
 
-        // Geometric quadrics: the caller's, or area-weighted face planes.
-        let mut geometric = vec![Quadric::ZERO; class_count];
-        match input.vertex_quadrics {
-            Some(quadrics) => {
-                for (v, q) in quadrics.iter().enumerate() {
-                    let c = classes.class_of[v];
-                    if c != NONE {
-                        geometric[c as usize] += q;
-                    }
-                }
-            }
-            None => {
-                for t in 0..triangle_count {
-                    let q = Quadric::from_triangle(
-                        corner_point(3 * t),
-                        corner_point(3 * t + 1),
-                        corner_point(3 * t + 2),
-                    );
-                    for k in 0..3 {
-                        geometric[classes.class_of[indices[3 * t + k] as usize] as usize] += &q;
-                    }
-                }
-            }
-        }
-        // Penalty planes: through each constraint edge, perpendicular to its triangle.
-        for side in &sides {
-            let (a, b) = (side.corner as usize, other_corners(side.corner).0 as usize);
-            let normal = input_normal[a / 3];
-            let (pa, pb) = (corner_point(a), corner_point(b));
-            let edge = pb - pa;
-            let plane = edge.cross(normal).normalize_or_zero();
-            if plane == DVec3::ZERO {
-                continue;
-            }
-            let weight = match side.constraint {
-                Constraint::Border => BORDER_WEIGHT,
-                Constraint::Seam => SEAM_WEIGHT,
-            } * edge.length_squared();
-            let mut q = Quadric::from_plane(plane, -plane.dot(pa), weight);
-            q.weight = 0.0;
-            for corner in [a, b] {
-                geometric[classes.class_of[indices[corner] as usize] as usize] += &q;
-            }
-        }
-
-        // Attribute quadrics (Hoppe 1999): the A, b, c parts per class, the cross terms per wedge.
-        let stride = 1 + 4 * m;
-        let mut appearance = vec![Quadric::ZERO; class_count];
-        let mut wedge_sums = vec![0.0f64; positions.len() * stride];
-        if m > 0 {
-            for t in 0..triangle_count {
-                let corners = [3 * t, 3 * t + 1, 3 * t + 2];
-                let Some(frame) = TriangleFrame::new(
-                    corner_point(corners[0]),
-                    corner_point(corners[1]),
-                    corner_point(corners[2]),
-                ) else {
-                    continue;
-                };
-                for corner in corners {
-                    wedge_sums[indices[corner] as usize * stride] += frame.area;
-                }
-                for (j, &w) in input.attribute_weights.iter().enumerate() {
-                    if w <= 0.0 {
-                        continue;
-                    }
-                    let s = corners.map(|k| input.attributes[indices[k] as usize * m + j] as f64);
-                    let (g, d) = frame.gradient(s[0], s[1], s[2]);
-                    let aw = frame.area * w as f64;
-                    let mut q = Quadric::from_plane(g, d, aw);
-                    q.weight = 0.0;
-                    for corner in corners {
-                        let wedge = indices[corner] as usize;
-                        appearance[classes.class_of[wedge] as usize] += &q;
-                        let base = wedge * stride + 1 + 4 * j;
-                        wedge_sums[base] += aw * g.x;
-                        wedge_sums[base + 1] += aw * g.y;
-                        wedge_sums[base + 2] += aw * g.z;
-                        wedge_sums[base + 3] += aw * d;
-                    }
-                }
-            }
+        let geometric = geometric_quadrics(&classes, input, &sides, &input_normal);
+        let (appearance, wedge_sums) = attribute_quadrics(&classes, input);
+        let mut total = geometric.clone();
+        for (t, a) in total.iter_mut().zip(&appearance) {
+            *t += a;
         }
 
         let n = positions.len();
@@ -261,14 +163,15 @@ impl<'a> Engine<'a> {
             live_triangles: triangle_count,
             position,
             geometric,
-            appearance,
+            total,
             wedge_sums,
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
             alive: vec![true; class_count],
             version: vec![0; class_count],
             parked: vec![false; class_count],
-            heap: BinaryHeap::new(),
+            queue: Queue::default(),
+            purged_length: 0,
             mark: vec![0; class_count],
             stamp: 0,
             u_pair: Vec::new(),
@@ -312,6 +215,11 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// The version stamp of a candidate `u → v`.
+    fn stamp_of(&self, u: u32, v: u32) -> u32 {
+        stamp(self.version[u as usize], self.version[v as usize])
+    }
+
     fn queue_all_edges(&mut self) {
         let mut neighbours = std::mem::take(&mut self.neighbours);
         for c in 0..self.classes.count() as u32 {
@@ -340,13 +248,8 @@ impl<'a> Engine<'a> {
                 (u, v)
             }
         };
-        self.heap.push(Entry {
-            cost: plan.cost.to_bits(),
-            u,
-            v,
-            version_u: self.version[u as usize],
-            version_v: self.version[v as usize],
-        });
+        let stamp = self.stamp_of(u, v);
+        self.queue.push(Candidate::new(plan.cost as f32, u, v, stamp));
     }
 
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
@@ -364,31 +267,41 @@ impl<'a> Engine<'a> {
     }
 
     /// Pops collapses in order until the target, the error limit or the end of the queue.
-    fn collapse_until(&mut self, target: usize, max_error: f64) -> StopReason {
+    fn collapse_until(&mut self, target: usize, max_error: f32) -> StopReason {
         loop {
             if target > 0 && self.live_triangles <= target {
                 return StopReason::TargetReached;
             }
-            let Some(entry) = self.heap.pop() else {
+            // Stale entries pile up (several per collapse). Dropping them in one linear pass
+            // costs a few ns each, popping them one by one a cache-missing sift each: purge
+            // whenever the queue has doubled since the last purge (amortised O(1) per push).
+            if self.queue.len() > 2 * self.purged_length.max(2048) {
+                let (alive, version) = (&self.alive, &self.version);
+                self.queue.purge(|c| {
+                    let (u, v) = (c.u() as usize, c.v as usize);
+                    alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
+                });
+                self.purged_length = self.queue.len();
+            }
+            let Some(entry) = self.queue.pop() else {
                 return StopReason::NoValidCollapse;
             };
-            let (u, v) = (entry.u as usize, entry.v as usize);
-            if !self.alive[u]
-                || !self.alive[v]
-                || self.version[u] != entry.version_u
-                || self.version[v] != entry.version_v
-            {
+            let (u, v) = (entry.u(), entry.v);
+            let (ui, vi) = (u as usize, v as usize);
+            if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
                 continue;
             }
-            if f64::from_bits(entry.cost) > max_error {
+            if entry.cost() > max_error {
                 return StopReason::MaxErrorReached;
             }
-            let Some(plan) = self.plan(entry.u, entry.v) else {
+            // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
+            // which a current entry reproduces exactly.
+            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
             if !self.check(&plan) {
-                self.parked[u] = true;
-                self.parked[v] = true;
+                self.parked[ui] = true;
+                self.parked[vi] = true;
                 continue;
             }
             self.apply(&plan);
@@ -412,6 +325,17 @@ impl<'a> Engine<'a> {
         self.u_pair.resize(u_wedges.len(), NONE);
         self.u_seen.clear();
         self.u_seen.resize(u_wedges.len(), false);
+        let ku = self.kind[ui];
+        let kv = self.kind[vi];
+        if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
+            // The common case needs no scan: one wedge each pairs trivially, and an interior u
+            // has no line to stay on. Whether the edge still exists is checked before applying.
+            self.u_pair[0] = 0;
+            self.u_seen[0] = true;
+            self.v_partner.clear();
+            self.v_partner.push(0);
+            return self.price(u, v, ku, kv);
+        }
         let mut edge_triangles = 0;
         let mut first_side = (NONE, NONE, NONE);
         let mut constraint = false;
@@ -447,9 +371,7 @@ impl<'a> Engine<'a> {
             return None;
         }
         constraint |= edge_triangles == 1;
-        let ku = self.kind[ui];
-        let kv = self.kind[vi];
-        if ku == Kind::Line && !constraint {
+        if ku.on_line() && !constraint {
             return None; // a line vertex only slides along its line
         }
         // Every used wedge of u needs its own wedge of v: no seam opens or closes.
@@ -465,17 +387,22 @@ impl<'a> Engine<'a> {
             }
             self.v_partner[iv as usize] = iu as u32;
         }
+        self.price(u, v, ku, kv)
+    }
+
+    /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made.
+    fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind) -> Option<Plan> {
+        let (ui, vi) = (u as usize, v as usize);
+        let u_wedges = self.classes.wedges_of(u);
+        let v_wedges = self.classes.wedges_of(v);
 
         let placement = match (self.mode, ku, kv) {
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) => Placement::Segment,
             _ => Placement::Fixed,
         };
-        let mut geometric = self.geometric[ui];
-        geometric += &self.geometric[vi];
-        let mut total = geometric;
-        total += &self.appearance[ui];
-        total += &self.appearance[vi];
+        let mut total = self.total[ui];
+        total += &self.total[vi];
         let stride = 1 + 4 * self.channels;
         for (iv, &wv) in v_wedges.iter().enumerate() {
             let partner = self.v_partner[iv];
@@ -483,20 +410,19 @@ impl<'a> Engine<'a> {
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
             let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
-            let sums =
-                |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
-            let alpha = sums(wv, 0) + sums(wu, 0);
+            // Sums of the merged wedge pair (or of the lone wedge), as one slice each.
+            let of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
+            let sv = of(wv);
+            let su = if wu == NONE { None } else { Some(of(wu)) };
+            let pair = |k: usize| sv[k] + su.map_or(0.0, |su| su[k]);
+            let alpha = pair(0);
             for (j, &w) in self.weights.iter().enumerate() {
                 if w <= 0.0 {
                     continue;
                 }
                 let k = 1 + 4 * j;
-                let g = DVec3::new(
-                    sums(wv, k) + sums(wu, k),
-                    sums(wv, k + 1) + sums(wu, k + 1),
-                    sums(wv, k + 2) + sums(wu, k + 2),
-                );
-                let d = sums(wv, k + 3) + sums(wu, k + 3);
+                let g = DVec3::new(pair(k), pair(k + 1), pair(k + 2));
+                let d = pair(k + 3);
                 let aw = alpha * w as f64;
                 if optimal {
                     total.subtract_optimal_attribute(g, d, aw);
@@ -520,10 +446,9 @@ impl<'a> Engine<'a> {
         };
         // The stored position is f32: price and check exactly the point that will be output.
         let p = p.as_vec3().as_dvec3();
-        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
         let cost = total.error(p).max(0.0) / weight;
-        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
-        cost.is_finite().then_some(Plan { u, v, p, cost, distance, placement })
+        cost.is_finite().then_some(Plan { u, v, p, cost, placement })
     }
 
     /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
@@ -606,8 +531,8 @@ impl<'a> Engine<'a> {
             opposite[count] = x;
             count += 1;
         }
-        if count == 2 && opposite[0] == opposite[1] {
-            return false;
+        if count == 0 || (count == 2 && opposite[0] == opposite[1]) {
+            return false; // no longer an edge, or a pinched one
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
         for corner in self.lists.iter(u) {
@@ -627,10 +552,14 @@ impl<'a> Engine<'a> {
                 return false;
             }
         }
-        if self.kind[u as usize] == Kind::Line {
+        if self.kind[u as usize].on_line() {
             for &x in &opposite[..count] {
-                // Two constraint edges of one triangle would merge into one.
-                if self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
+                // Two constraint edges of one triangle would merge into one, changing the
+                // number of lines at v and x (a line vertex would become a line end). Harmless
+                // when both are locked anyway: that only closes a chart corner or a border ear.
+                let both_locked =
+                    self.kind[v as usize] == Kind::Locked && self.kind[x as usize] == Kind::Locked;
+                if !both_locked && self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
                     return false;
                 }
             }
@@ -792,10 +721,13 @@ impl<'a> Engine<'a> {
         }
 
         // Class state.
-        let gu = self.geometric[ui];
-        self.geometric[vi] += &gu;
-        let au = self.appearance[ui];
-        self.appearance[vi] += &au;
+        let mut geometric = self.geometric[ui];
+        geometric += &self.geometric[vi];
+        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
+        self.geometric[vi] = geometric;
+        let tu = self.total[ui];
+        self.total[vi] += &tu;
         self.position[vi] = p;
         self.alive[ui] = false;
         self.version[ui] = self.version[ui].wrapping_add(1);
@@ -803,7 +735,7 @@ impl<'a> Engine<'a> {
         self.parked[vi] = false;
         self.log.steps.push(RawStep {
             cost: plan.cost,
-            distance: plan.distance,
+            distance,
             triangles_after: self.live_triangles as u32,
             first_new_vertex: first_new,
             new_vertex_count: new_count,

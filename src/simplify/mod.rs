@@ -5,12 +5,13 @@
 //! 2. `topology` groups vertices into position classes (wedges sharing a position, Hoppe 1999),
 //!    builds per-class corner lists and classifies every class as interior, line (on a border,
 //!    material border or attribute seam) or locked;
-//! 3. `collapse` builds quadrics — area-weighted face planes (Garland & Heckbert 1997) or the
-//!    caller's, penalty planes along constraint edges, Hoppe's (1999) attribute quadrics per wedge
-//!    — then collapses position edges in strict order of cost from a binary heap with lazy
+//! 3. `vertex_quadrics` builds the initial quadrics: area-weighted face planes (Garland &
+//!    Heckbert 1997) or the caller's, penalty planes along constraint edges, and Hoppe's (1999)
+//!    attribute quadrics per wedge;
+//! 4. `collapse` collapses position edges in strict order of cost from a binary heap with lazy
 //!    invalidation, rejecting collapses that break the link condition, tear seams, merge
 //!    constraint lines, or fold triangles;
-//! 4. [`crate::progressive`] turns the collapse log into a [`ProgressiveMesh`] (Hoppe 1996): a
+//! 5. [`crate::progressive`] turns the collapse log into a [`ProgressiveMesh`] (Hoppe 1996): a
 //!    collapse forest over vertex ids with a prefix order on triangles and vertex slots.
 //!
 //! Units: positions in the caller's units; errors are mean squared distances (position units²),
@@ -18,7 +19,9 @@
 
 mod collapse;
 pub mod quadric;
+mod queue;
 mod topology;
+mod vertex_quadrics;
 
 pub use quadric::Quadric;
 

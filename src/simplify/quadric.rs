@@ -17,6 +17,9 @@
 //! Everything is f64: quadric coefficients cancel catastrophically in f32 when a mesh lies far
 //! from the origin (c ≈ |b|² / |A|), and the solve needs the headroom.
 
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use glam::DVec3;
 
 /// A symmetric quadric `Q(p) = pᵀ A p + 2 b·p + c` with the total weight (area) of its planes.

@@ -11,6 +11,8 @@
 //! - [`Kind::Interior`]: no constraint edge, its triangle fan is one closed disk;
 //! - [`Kind::Line`]: exactly two constraint edges, on one disk or half-disk: it lies on a border,
 //!   seam or material line and may only slide along it;
+//! - [`Kind::Corner`]: a line vertex where the line turns by more than 45°: it moves only along
+//!   its line too, but never to a point between two vertices (that would round the corner off);
 //! - [`Kind::Locked`]: anything else (line ends and junctions, non-manifold or inconsistently
 //!   oriented edges, fans that are not a single disk, triangles with two corners at one position):
 //!   it is never removed, though other vertices may collapse onto it.
@@ -25,8 +27,20 @@ pub(crate) const NONE: u32 = u32::MAX;
 pub(crate) enum Kind {
     Interior,
     Line,
+    Corner,
     Locked,
 }
+
+impl Kind {
+    /// On a border, seam or material line (slides only along it).
+    pub fn on_line(self) -> bool {
+        matches!(self, Kind::Line | Kind::Corner)
+    }
+}
+
+/// A line turning by more than 45° at a vertex makes it a corner: cos 45°. Smaller turns are
+/// the polyline of a smooth outline, whose vertices may move along it.
+const CORNER_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// Which kind of constraint an edge is; it selects the penalty-plane weight.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -213,6 +227,7 @@ pub(crate) fn other_corners(corner: u32) -> (u32, u32) {
 /// Kinds of all classes and the sides of all constraint edges (each undirected edge once).
 pub(crate) fn classify(
     classes: &PositionClasses,
+    positions: &[Vec3],
     lists: &CornerLists,
     indices: &[u32],
     materials: &[u32],
@@ -243,6 +258,7 @@ pub(crate) fn classify(
         }
         incident.sort_unstable();
         let mut constraint_count = 0;
+        let mut line_neighbours = [NONE; 2];
         let mut start = 0;
         while start < incident.len() {
             let neighbour = incident[start].0;
@@ -276,6 +292,9 @@ pub(crate) fn classify(
                 }
             };
             if let Some(constraint) = constraint {
+                if constraint_count < 2 {
+                    line_neighbours[constraint_count] = neighbour;
+                }
                 constraint_count += 1;
                 if c < neighbour {
                     for &(_, dir, corner) in run {
@@ -291,7 +310,17 @@ pub(crate) fn classify(
         let disk = !locked && single_fan(&mut link);
         kinds[c as usize] = match (disk, constraint_count) {
             (true, 0) => Kind::Interior,
-            (true, 2) => Kind::Line,
+            (true, 2) => {
+                let at = |class: u32| positions[classes.representative[class as usize] as usize].as_dvec3();
+                let (d1, d2) = (at(line_neighbours[0]) - at(c), at(line_neighbours[1]) - at(c));
+                // Straight on: d1 and d2 point in opposite directions.
+                let cos_turn = -d1.dot(d2) / (d1.length() * d2.length());
+                if cos_turn >= CORNER_COS {
+                    Kind::Line
+                } else {
+                    Kind::Corner
+                }
+            }
             _ => Kind::Locked,
         };
     }
@@ -332,7 +361,7 @@ mod tests {
         let classes = position_classes(positions, indices);
         let lists =
             CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), classes.count());
-        classify(&classes, &lists, indices, materials).0
+        classify(&classes, positions, &lists, indices, materials).0
     }
 
     /// A 3×3 vertex grid (4 quads, 8 triangles), centre vertex 4.
@@ -353,8 +382,11 @@ mod tests {
         let (p, i) = grid();
         let kinds = kinds_of(&p, &i, &[]);
         assert_eq!(kinds[4], Kind::Interior);
-        for v in [0, 1, 2, 3, 5, 6, 7, 8] {
+        for v in [1, 3, 5, 7] {
             assert_eq!(kinds[v], Kind::Line, "vertex {v}");
+        }
+        for v in [0, 2, 6, 8] {
+            assert_eq!(kinds[v], Kind::Corner, "vertex {v}");
         }
     }
 

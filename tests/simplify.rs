@@ -1,0 +1,429 @@
+//! Hand-drawn inputs with exact expected simplification results.
+
+mod meshgen;
+
+use clod_viewer::simplify::{simplify, CollapseMode, Quadric, SimplifyError, SimplifyOptions, StopReason};
+use glam::{DVec3, Vec3};
+use meshgen::{check_cursor, check_invariants, grid, Mesh};
+use std::collections::HashSet;
+
+fn options(mode: CollapseMode, target: usize) -> SimplifyOptions {
+    SimplifyOptions { mode, target_triangles: target, ..SimplifyOptions::default() }
+}
+
+fn tetrahedron() -> Mesh {
+    Mesh {
+        positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+        indices: vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        ..Mesh::default()
+    }
+}
+
+fn cube() -> Mesh {
+    let positions =
+        (0..8).map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32)).collect();
+    // Outward-facing quads, two triangles each.
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let indices = quads.iter().flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]]).collect();
+    Mesh { positions, indices, ..Mesh::default() }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn flat_grid_collapses_to_two_triangles_without_error() {
+    let mesh = grid(6, 5, |_, _| 0.0);
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let pm = mesh.simplify(&options(mode, 2));
+        assert_eq!(pm.stop, StopReason::TargetReached, "{mode:?}");
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 2, "{mode:?}");
+        assert!(pm.error_after(k) <= 1e-12, "{mode:?}: error {}", pm.error_after(k));
+        // The two triangles span the grid's four corners.
+        let corners: HashSet<[u32; 3]> =
+            pm.indices_at(k).iter().map(|&v| pm.positions[v as usize].to_array().map(f32::to_bits)).collect();
+        let expected: HashSet<[u32; 3]> = [[0.0, 0.0], [6.0, 0.0], [0.0, 5.0], [6.0, 5.0]]
+            .iter()
+            .map(|&[x, y]| [x, y, 0.0f32].map(f32::to_bits))
+            .collect();
+        assert_eq!(corners, expected, "{mode:?}");
+        check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), false);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn tetrahedron_does_not_collapse_and_says_so() {
+    let mesh = tetrahedron();
+    let pm = mesh.simplify(&options(CollapseMode::Full, 1));
+    assert_eq!(pm.collapse_count(), 0);
+    assert_eq!(pm.triangle_count_after(0), 4);
+    assert_eq!(pm.stop, StopReason::NoValidCollapse);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn closed_cube_stops_at_a_tetrahedron() {
+    let mesh = cube();
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let pm = mesh.simplify(&options(mode, 0));
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 4, "{mode:?}");
+        assert_eq!(pm.stop, StopReason::NoValidCollapse);
+        check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), true);
+        check_cursor(&pm, &[k, 0, 2, 1, k, 3]);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn single_triangle_is_left_alone() {
+    let mesh =
+        Mesh { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], indices: vec![0, 1, 2], ..Mesh::default() };
+    let pm = mesh.simplify(&SimplifyOptions::default());
+    assert_eq!(pm.collapse_count(), 0);
+    assert_eq!(pm.indices_at(0), vec![0, 1, 2]);
+    assert_eq!(pm.vertex_count_after(0), 3);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn interior_vertex_of_a_planar_quad_collapses_onto_the_first_corner() {
+    // Square with an off-centre interior vertex 4. Its four collapses onto the corners all cost
+    // exactly 0 (planar; a corner keeps its position), so the tie-break picks corner 0.
+    let positions = vec![
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(2.0, 2.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        Vec3::new(0.5, 0.7, 0.0),
+    ];
+    let mesh = Mesh { positions, indices: vec![0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4], ..Mesh::default() };
+    let pm = mesh.simplify(&options(CollapseMode::Full, 2));
+    assert_eq!(pm.collapse_count(), 1);
+    let record = pm.collapses[0];
+    assert_eq!(record.cost, 0.0);
+    assert_eq!(record.new_vertex_count, 1);
+    let new = record.first_new_vertex;
+    assert_eq!(pm.positions[new as usize], Vec3::ZERO);
+    assert_eq!(pm.parent[0], new);
+    assert_eq!(pm.parent[4], new);
+    assert_eq!(pm.survivor_source[new as usize], 0, "the corner survives");
+    let mut tris: Vec<[u32; 3]> = pm.indices_at(1).chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    tris.sort();
+    assert_eq!(tris, vec![[1, 2, new], [2, 3, new]]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn octahedron_edge_collapses_to_its_quadric_minimiser() {
+    // Regular octahedron: for edge (+x, +y) the summed quadric is minimal at the midpoint
+    // (0.5, 0.5, 0), where four of the eight face planes pass at distance 1/√3: the mean squared
+    // distance is (4 · area / 3) / (8 · area) = 1/6.
+    let positions = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let mut indices = Vec::new();
+    for &x in &[0u32, 1] {
+        for &y in &[2u32, 3] {
+            for &z in &[4u32, 5] {
+                // Orient outward: the sign of x·y·z decides the winding.
+                let positive = (x == 0) ^ (y == 3) ^ (z == 5);
+                indices.extend_from_slice(&if positive { [x, y, z] } else { [x, z, y] });
+            }
+        }
+    }
+    let mesh = Mesh { positions, indices, ..Mesh::default() };
+    let pm = mesh.simplify(&options(CollapseMode::Full, 6));
+    assert_eq!(pm.collapse_count(), 1);
+    let record = pm.collapses[0];
+    assert!((record.cost - 1.0 / 6.0).abs() < 1e-6, "cost {}", record.cost);
+    assert!((record.distance - (1.0f32 / 6.0).sqrt()).abs() < 1e-6);
+    let new = record.first_new_vertex as usize;
+    let children: Vec<usize> = (0..6).filter(|&v| pm.parent[v] == new as u32).collect();
+    assert_eq!(children.len(), 2);
+    let midpoint = (pm.positions[children[0]] + pm.positions[children[1]]) * 0.5;
+    assert!((pm.positions[new] - midpoint).length() < 1e-6, "{} vs {midpoint}", pm.positions[new]);
+    check_invariants(&mesh, &pm, &[0, 1], true);
+}
+
+/// A 4×4-quad grid whose middle column x = 2 is split: the right side's triangles use duplicate
+/// vertices (ids 25..30) with a different u coordinate.
+fn seam_grid() -> Mesh {
+    let mut mesh = grid(4, 4, |_, _| 0.0);
+    let base = mesh.positions.len() as u32;
+    let mut duplicate = vec![u32::MAX; base as usize];
+    for j in 0..5u32 {
+        let v = j * 5 + 2;
+        duplicate[v as usize] = base + j;
+        mesh.positions.push(mesh.positions[v as usize]);
+    }
+    for t in 0..mesh.indices.len() / 3 {
+        let tri = &mut mesh.indices[3 * t..3 * t + 3];
+        let right = tri.iter().any(|&v| v < base && v % 5 > 2);
+        if right {
+            for v in tri.iter_mut() {
+                if duplicate[*v as usize] != u32::MAX {
+                    *v = duplicate[*v as usize];
+                }
+            }
+        }
+    }
+    mesh.weights = vec![1.0];
+    mesh.attributes = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(v, p)| if v as u32 >= base { p.x / 4.0 + 1.0 } else { p.x / 4.0 })
+        .collect();
+    mesh
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn seam_wedges_collapse_together() {
+    let mesh = seam_grid();
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let pm = mesh.simplify(&options(mode, 0));
+        let k_end = pm.collapse_count();
+        assert!(pm.triangle_count_after(k_end) <= 8, "{mode:?}: {}", pm.triangle_count_after(k_end));
+        // Some collapse slides the seam: two wedge pairs at x = 2 merge into two new vertices at
+        // one position.
+        let pm_ref = &pm;
+        let children = |x: u32| (0..pm_ref.vertex_total()).filter(move |&y| pm_ref.parent[y] == x);
+        let on_seam = |v: usize| pm_ref.positions[v].x == 2.0;
+        let step = pm
+            .collapses
+            .iter()
+            .find(|c| {
+                c.new_vertex_count == 2
+                    && (c.first_new_vertex..c.first_new_vertex + 2)
+                        .all(|x| on_seam(x as usize) && children(x).filter(|&y| on_seam(y)).count() == 2)
+            })
+            .expect("the seam gets simplified");
+        let (a, b) = (step.first_new_vertex as usize, step.first_new_vertex as usize + 1);
+        assert_eq!(pm.positions[a], pm.positions[b]);
+        // u stays on its side of the seam: the left wedge < 1, the right one ≥ 1.
+        let (ua, ub) = (pm.attributes[a], pm.attributes[b]);
+        assert!((ua < 1.0) != (ub < 1.0), "{mode:?}: {ua} {ub}");
+        // No crack at any level: seam edges are shared by a triangle on each side.
+        for k in 0..=k_end {
+            let mut edges = std::collections::HashMap::<[u32; 4], i32>::new();
+            for t in pm.indices_at(k).chunks_exact(3) {
+                for e in 0..3 {
+                    let (p, q) = (pm.positions[t[e] as usize], pm.positions[t[(e + 1) % 3] as usize]);
+                    let (p, q) = ([p.x, p.y].map(f32::to_bits), [q.x, q.y].map(f32::to_bits));
+                    let key = if p < q { [p[0], p[1], q[0], q[1]] } else { [q[0], q[1], p[0], p[1]] };
+                    *edges.entry(key).or_default() += 1;
+                }
+            }
+            for (key, count) in edges {
+                let on_rim = |x: u32, y: u32| {
+                    let (x, y) = (f32::from_bits(x), f32::from_bits(y));
+                    x == 0.0 || x == 4.0 || y == 0.0 || y == 4.0
+                };
+                let rim = on_rim(key[0], key[1]) && on_rim(key[2], key[3]);
+                assert!(count == 2 || (rim && count == 1), "{mode:?} level {k}: edge {key:?} has {count}");
+            }
+        }
+        check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn material_border_stays_where_it_is() {
+    // Bumpy 8×6 grid, material 1 on the right of x = 3.
+    let mut mesh = grid(8, 6, |i, j| {
+        if i == 0 || j == 0 || i == 8 || j == 6 {
+            0.0
+        } else {
+            ((i * 7 + j * 3) % 5) as f32 * 0.1
+        }
+    });
+    mesh.materials = mesh.indices.chunks_exact(3).map(|t| u32::from(t.iter().any(|&v| v % 9 > 3))).collect();
+    let pm = mesh.simplify(&options(CollapseMode::Full, 0));
+    let k_end = pm.collapse_count();
+    assert!(pm.triangle_count_after(k_end) < 20);
+    for k in 0..=k_end {
+        let tris = pm.indices_at(k);
+        let mut edge_materials = std::collections::HashMap::<(u32, u32), Vec<u32>>::new();
+        for (i, t) in tris.chunks_exact(3).enumerate() {
+            let material = mesh.materials[pm.triangle_source[i] as usize];
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                edge_materials.entry((a.min(b), a.max(b))).or_default().push(material);
+            }
+        }
+        for ((a, b), materials) in edge_materials {
+            if materials.len() == 2 && materials[0] != materials[1] {
+                for v in [a, b] {
+                    assert_eq!(pm.positions[v as usize].x, 3.0, "level {k}: material border moved");
+                }
+            }
+        }
+    }
+    check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn border_stays_straight() {
+    let mut rng = meshgen::Rng(7);
+    let heights: Vec<f32> = (0..13 * 11).map(|_| rng.signed() * 0.3).collect();
+    let mesh = grid(12, 10, |i, j| {
+        if i == 0 || j == 0 || i == 12 || j == 10 {
+            0.0
+        } else {
+            heights[(j * 13 + i) as usize]
+        }
+    });
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let pm = mesh.simplify(&options(mode, 0));
+        let k_end = pm.collapse_count();
+        let on_rim = |p: Vec3| p.z == 0.0 && (p.x == 0.0 || p.x == 12.0 || p.y == 0.0 || p.y == 10.0);
+        let is_corner = |p: Vec3| (p.x == 0.0 || p.x == 12.0) && (p.y == 0.0 || p.y == 10.0);
+        let mut fewest_with_corners = usize::MAX;
+        for k in 0..=k_end {
+            let tris = pm.indices_at(k);
+            let mut edges = std::collections::HashMap::<(u32, u32), u32>::new();
+            for t in tris.chunks_exact(3) {
+                for e in 0..3 {
+                    let (a, b) = (t[e], t[(e + 1) % 3]);
+                    *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+                }
+            }
+            // Until a rim corner is cut away (it costs a penalty, so it comes last), every border
+            // edge lies on one side of the rim and border vertices stay on the rim.
+            let corners = tris
+                .iter()
+                .filter(|&&v| is_corner(pm.positions[v as usize]))
+                .copied()
+                .collect::<HashSet<_>>();
+            if corners.len() < 4 {
+                continue;
+            }
+            fewest_with_corners = fewest_with_corners.min(tris.len() / 3);
+            for ((a, b), count) in edges {
+                if count == 1 {
+                    let (p, q) = (pm.positions[a as usize], pm.positions[b as usize]);
+                    assert!(
+                        on_rim(p) && on_rim(q),
+                        "{mode:?} level {k}: border vertex left the rim: {p} {q}"
+                    );
+                    let same_side = (p.x == 0.0 && q.x == 0.0)
+                        || (p.x == 12.0 && q.x == 12.0)
+                        || (p.y == 0.0 && q.y == 0.0)
+                        || (p.y == 10.0 && q.y == 10.0);
+                    assert!(same_side, "{mode:?} level {k}: border edge {p} {q}");
+                }
+            }
+        }
+        assert!(fewest_with_corners <= 40, "{mode:?}: corners cut early, at {fewest_with_corners} triangles");
+        check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn half_edge_mode_keeps_a_subset_of_input_vertices() {
+    let mesh = meshgen::torus(16, 12, 0.02, 3);
+    let pm = mesh.simplify(&options(CollapseMode::HalfEdge, 0));
+    assert!(pm.collapse_count() > 100);
+    let m = pm.attribute_count;
+    for x in pm.input_vertex_count..pm.vertex_total() {
+        let source = pm.survivor_source[x] as usize;
+        assert_eq!(pm.positions[x], pm.positions[source]);
+        assert_eq!(&pm.attributes[x * m..x * m + m], &pm.attributes[source * m..source * m + m]);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn full_mode_renormalises_normals() {
+    let mesh = meshgen::torus(16, 12, 0.02, 5);
+    let opts = SimplifyOptions { normal_channel: Some(0), ..SimplifyOptions::default() };
+    let pm = mesh.simplify(&opts);
+    for x in pm.input_vertex_count..pm.vertex_total() {
+        let n = Vec3::from_slice(&pm.attributes[x * 5..x * 5 + 3]);
+        assert!((n.length() - 1.0).abs() < 1e-5, "vertex {x}: {n}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn caller_quadrics_equal_to_the_default_give_the_same_result() {
+    // No seams: one wedge per position, so both ways sum the same planes in the same order.
+    let mut rng = meshgen::Rng(9);
+    let heights: Vec<f32> = (0..15 * 15).map(|_| rng.signed() * 0.3).collect();
+    let mesh = grid(14, 14, |i, j| heights[(j * 15 + i) as usize]);
+    let mut quadrics = vec![Quadric::ZERO; mesh.positions.len()];
+    for t in mesh.indices.chunks_exact(3) {
+        let p = [0, 1, 2].map(|k| mesh.positions[t[k] as usize].as_dvec3());
+        let q = Quadric::from_triangle(p[0], p[1], p[2]);
+        for &v in t {
+            quadrics[v as usize] += &q;
+        }
+    }
+    let mut input = mesh.input();
+    input.vertex_quadrics = Some(&quadrics);
+    let given = simplify(&input, &SimplifyOptions::default()).unwrap();
+    let default = mesh.simplify(&SimplifyOptions::default());
+    assert_eq!(given.collapse_count(), default.collapse_count());
+    assert_eq!(given.indices_at(given.collapse_count()), default.indices_at(default.collapse_count()));
+    // A quadric pulling everything towards a far plane changes the result.
+    let far = Quadric::from_plane(DVec3::Z, -5.0, 1.0);
+    let skewed: Vec<Quadric> = quadrics
+        .iter()
+        .map(|q| {
+            let mut q = *q;
+            q += &far;
+            q
+        })
+        .collect();
+    input.vertex_quadrics = Some(&skewed);
+    let other = simplify(&input, &SimplifyOptions::default()).unwrap();
+    assert_ne!(other.positions, default.positions);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn max_error_and_target_stop_early() {
+    let mesh = meshgen::torus(20, 14, 0.02, 11);
+    let full = mesh.simplify(&SimplifyOptions::default());
+    let k_mid = full.collapse_count() / 2;
+    let limit = full.collapses[k_mid].cost;
+    let limited = mesh.simplify(&SimplifyOptions { max_error: limit, ..SimplifyOptions::default() });
+    assert_eq!(limited.stop, StopReason::MaxErrorReached);
+    assert!(limited.collapses.iter().all(|c| c.cost <= limit));
+    // The same prefix of the same total order.
+    assert_eq!(limited.collapses[..], full.collapses[..limited.collapse_count()]);
+    let targeted = mesh.simplify(&options(CollapseMode::Full, 100));
+    assert_eq!(targeted.stop, StopReason::TargetReached);
+    assert!(targeted.triangle_count_after(targeted.collapse_count()) <= 100);
+    assert!(targeted.triangle_count_after(targeted.collapse_count() - 1) > 100);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn bad_input_is_an_error() {
+    let mesh = tetrahedron();
+    let run = |f: &dyn Fn(&mut Mesh)| {
+        let mut m = mesh.clone();
+        f(&mut m);
+        simplify(&m.input(), &SimplifyOptions::default()).err()
+    };
+    assert_eq!(run(&|m| m.indices.push(0)), Some(SimplifyError::IndexCount(13)));
+    assert!(matches!(
+        run(&|m| m.indices[4] = 9),
+        Some(SimplifyError::IndexOutOfRange { index: 9, triangle: 1, .. })
+    ));
+    assert_eq!(run(&|m| m.positions[2].y = f32::NAN), Some(SimplifyError::NonFinitePosition(2)));
+    assert!(matches!(
+        run(&|m| m.weights = vec![1.0]),
+        Some(SimplifyError::AttributeLength { expected: 4, .. })
+    ));
+    assert_eq!(
+        run(&|m| m.materials = vec![0, 1]),
+        Some(SimplifyError::MaterialCount { found: 2, triangles: 4 })
+    );
+    let opts = SimplifyOptions { normal_channel: Some(0), ..SimplifyOptions::default() };
+    assert!(matches!(simplify(&mesh.input(), &opts), Err(SimplifyError::NormalChannel { .. })));
+}
