@@ -318,7 +318,12 @@ fn back_propagate(
             None => (p0_position, p0_normal),
             Some(matrices) => {
                 let m = matrices[source];
-                if m.determinant().abs() > 1e-12 {
+                if p0_position == m.transform_point3(mesh.positions[source]) {
+                    // The vertex did not move (every half-edge collapse, and survivors on locked
+                    // vertices): its source's bind position, exactly, instead of a rounded
+                    // round trip through the inverse.
+                    (mesh.positions[source], Mat4::transpose(&m).transform_vector3(p0_normal))
+                } else if m.determinant().abs() > 1e-12 {
                     // Houle & Poulin's back-propagation: b = M0(v)⁻¹ x. Normals transform by the
                     // inverse transpose of M0⁻¹, which is M0ᵀ.
                     let normal = Mat4::transpose(&m).transform_vector3(p0_normal);

@@ -374,6 +374,9 @@ impl<'a> Engine<'a> {
         if ku.on_line() && !constraint {
             return None; // a line vertex only slides along its line
         }
+        // A junction may go along any edge: the pairing below admits it only when every wedge it
+        // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
+        // ends there) but never merge the two sides of a seam.
         // Every used wedge of u needs its own wedge of v: no seam opens or closes.
         self.v_partner.clear();
         self.v_partner.resize(v_wedges.len(), NONE);
@@ -552,13 +555,12 @@ impl<'a> Engine<'a> {
                 return false;
             }
         }
-        if self.kind[u as usize].on_line() {
+        if self.kind[u as usize] != Kind::Interior {
             for &x in &opposite[..count] {
                 // Two constraint edges of one triangle would merge into one, changing the
                 // number of lines at v and x (a line vertex would become a line end). Harmless
                 // when both are locked anyway: that only closes a chart corner or a border ear.
-                let both_locked =
-                    self.kind[v as usize] == Kind::Locked && self.kind[x as usize] == Kind::Locked;
+                let both_locked = self.kind[v as usize].pinned() && self.kind[x as usize].pinned();
                 if !both_locked && self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
                     return false;
                 }
@@ -729,6 +731,12 @@ impl<'a> Engine<'a> {
         let tu = self.total[ui];
         self.total[vi] += &tu;
         self.position[vi] = p;
+        // The survivor of a junction inherits its line ends or meeting lines: it stays put from
+        // now on and collapses only under the junction rules (a stale interior or line kind
+        // would let it drag those lines freely).
+        if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
+            self.kind[vi] = Kind::Junction;
+        }
         self.alive[ui] = false;
         self.version[ui] = self.version[ui].wrapping_add(1);
         self.version[vi] = self.version[vi].wrapping_add(1);

@@ -13,9 +13,13 @@
 //!   seam or material line and may only slide along it;
 //! - [`Kind::Corner`]: a line vertex where the line turns by more than 45°: it moves only along
 //!   its line too, but never to a point between two vertices (that would round the corner off);
-//! - [`Kind::Locked`]: anything else (line ends and junctions, non-manifold or inconsistently
-//!   oriented edges, fans that are not a single disk, triangles with two corners at one position):
-//!   it is never removed, though other vertices may collapse onto it.
+//! - [`Kind::Junction`]: a single disk or half-disk with one constraint edge (a line end) or
+//!   three or more (lines meeting): it may be removed only by a collapse that carries every wedge
+//!   it uses onto its own wedge of the survivor (a seam end moving to a neighbour, a junction
+//!   sliding along one of its lines), and the survivor always keeps its position;
+//! - [`Kind::Locked`]: anything else (non-manifold or inconsistently oriented edges, fans that
+//!   are not a single disk, triangles with two corners at one position): it is never removed,
+//!   though other vertices may collapse onto it.
 
 use glam::Vec3;
 
@@ -28,6 +32,7 @@ pub(crate) enum Kind {
     Interior,
     Line,
     Corner,
+    Junction,
     Locked,
 }
 
@@ -35,6 +40,11 @@ impl Kind {
     /// On a border, seam or material line (slides only along it).
     pub fn on_line(self) -> bool {
         matches!(self, Kind::Line | Kind::Corner)
+    }
+
+    /// Never moves when something collapses onto it (a line end, junction or complex vertex).
+    pub fn pinned(self) -> bool {
+        matches!(self, Kind::Junction | Kind::Locked)
     }
 }
 
@@ -321,6 +331,7 @@ pub(crate) fn classify(
                     Kind::Corner
                 }
             }
+            (true, _) => Kind::Junction,
             _ => Kind::Locked,
         };
     }
@@ -398,8 +409,8 @@ mod tests {
         let kinds = kinds_of(&p, &i, &materials);
         assert_eq!(kinds[4], Kind::Line);
         // Rim vertices where the material line meets the border have three constraint edges.
-        assert_eq!(kinds[1], Kind::Locked);
-        assert_eq!(kinds[7], Kind::Locked);
+        assert_eq!(kinds[1], Kind::Junction);
+        assert_eq!(kinds[7], Kind::Junction);
         assert_eq!(kinds[3], Kind::Line);
     }
 
@@ -437,6 +448,6 @@ mod tests {
         let kinds = kinds_of(&p, &i, &[]);
         // Seam runs 1 - 4 - 7: the centre slides along it, its ends are junctions.
         assert_eq!(kinds[4], Kind::Line);
-        assert_eq!(kinds[1], Kind::Locked);
+        assert_eq!(kinds[1], Kind::Junction);
     }
 }
