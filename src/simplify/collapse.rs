@@ -750,12 +750,14 @@ impl<'a> Engine<'a> {
             corner_changes_end: self.log.corner_changes.len() as u32,
         });
 
-        // Re-queue: every edge of v, and every edge of a parked neighbour.
+        // Re-queue: every edge of v, and every edge of a parked or junction neighbour. A junction's
+        // wedge pairing along an edge depends on the triangles beside that edge, which this
+        // collapse may have changed, so its edges are priced again like a parked vertex's.
         let mut neighbours = std::mem::take(&mut self.neighbours);
         let mut second = std::mem::take(&mut self.second_neighbours);
         self.neighbours_into(v, &mut neighbours);
         for &x in &neighbours {
-            if self.parked[x as usize] {
+            if self.parked[x as usize] || self.kind[x as usize] == Kind::Junction {
                 self.parked[x as usize] = false;
                 self.version[x as usize] = self.version[x as usize].wrapping_add(1);
                 self.neighbours_into(x, &mut second);
