@@ -415,6 +415,26 @@ mod tests {
     }
 
     #[test]
+    fn seam_end_inside_the_surface_is_a_junction() {
+        let (mut p, mut i) = grid();
+        // Vertex 9 duplicates 1 for the quad right of the edge 1-4: a seam from the border
+        // vertex 1 that ends at the centre.
+        p.push(p[1]);
+        for tri in i[6..12].chunks_exact_mut(3) {
+            for v in tri.iter_mut() {
+                if *v == 1 {
+                    *v = 9;
+                }
+            }
+        }
+        let kinds = kinds_of(&p, &i, &[]);
+        // One constraint edge at the centre (a line end), three at 1 (two border edges, the seam).
+        assert_eq!(kinds[4], Kind::Junction);
+        assert_eq!(kinds[1], Kind::Junction);
+        assert_eq!(kinds[3], Kind::Line);
+    }
+
+    #[test]
     fn bowtie_and_nonmanifold_edges_lock() {
         // Two triangles touching at vertex 0 only.
         let p = [Vec3::ZERO, Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y];
