@@ -37,6 +37,16 @@ ensure_wasm_tools() {
   ensure_cargo_tool wasm-pack wasm-pack "$(manifest tools.wasm-pack)"
 }
 
+# Debian's Chromium for the browser tests (never a browser downloaded by a test tool).
+ensure_chromium() {
+  if ! command -v chromium >/dev/null 2>&1; then
+    echo "== installing Debian's chromium and chromium-driver (apt)"
+    local sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
+    $sudo apt-get update -q
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q chromium chromium-driver
+  fi
+}
+
 ensure_npm_packages() {
   if [ -f "$root/package-lock.json" ] && ! (cd "$root" && npm ls --all >/dev/null 2>&1); then
     echo "== npm ci"

@@ -9,7 +9,7 @@ use std::rc::Rc;
 use wasm_bindgen::prelude::*;
 
 use crate::character::Character as CoreCharacter;
-use crate::clod::{self, ClodOptions, SimplificationPose};
+use crate::clod::{self, ClodOptions, SimplificationPose, WeightRule};
 use crate::import;
 use crate::simplify::CollapseMode;
 
@@ -130,6 +130,7 @@ impl Character {
     /// `options` (all optional): `pose`: `'mid-clip'` (default: the middle of the first clip),
     /// `'bind'`, `'multi'` (quadrics over frames of every clip) or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
+    /// `weights`: `'survivor'` (default) or `'blend'` for the skin weights of new vertices;
     /// `onProgress(fraction)`: called with fractions from 0 to 1.
     ///
     /// Throws on malformed options (naming the option) or a mesh that cannot be simplified.
@@ -319,6 +320,12 @@ fn parse_clod_options(
         Some("full") => out.mode = CollapseMode::Full,
         Some("halfedge") => out.mode = CollapseMode::HalfEdge,
         _ => return Err(JsError::new("mode must be 'full' or 'halfedge'")),
+    }
+    match get("weights").as_string().as_deref() {
+        None if get("weights").is_undefined() => {}
+        Some("survivor") => out.weights = WeightRule::Survivor,
+        Some("blend") => out.weights = WeightRule::Blend,
+        _ => return Err(JsError::new("weights must be 'survivor' or 'blend'")),
     }
     let on_progress = get("onProgress");
     let on_progress = if on_progress.is_undefined() {

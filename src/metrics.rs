@@ -74,6 +74,11 @@ impl SplitMix64 {
         (self.next_u64() % n as u64) as usize
     }
 
+    /// Uniform in `[-1, 1)` with 24 bits of precision.
+    pub fn signed(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 23) as f32 - 1.0
+    }
+
     /// Uniform in `[0, 1)` with 24 bits of precision.
     pub fn next_f32(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)

@@ -227,9 +227,14 @@ fn node_cycles() {
 fn absurd_counts() {
     for accessor in 0..7 {
         let mut model = TinyModel::new();
-        model.json["accessors"][accessor]["count"] = Value::from(1u64 << 40);
+        // 2^30 fits a 32-bit usize (wasm32), so our own limit, not the JSON layer, must catch it.
+        model.json["accessors"][accessor]["count"] = Value::from(1u64 << 30);
         let msg = error_of(&model);
         assert_mentions(&msg, &[&format!("accessor {accessor} ("), "more than the limit"]);
+        // 2^40 does not fit in wasm32's usize: the JSON layer rejects it there, we do natively.
+        model.json["accessors"][accessor]["count"] = Value::from(1u64 << 40);
+        let msg = error_of(&model);
+        assert!(msg.contains("count") || msg.contains("limit"), "{msg}");
     }
     // A sparse accessor without buffer view: zeros that no file bytes back.
     let mut model = TinyModel::new();
@@ -291,4 +296,32 @@ fn bad_animation_keys_and_missing_resources() {
     let mut model = TinyModel::new();
     model.bin.truncate(100);
     assert_mentions(&error_of(&model), &["buffer 0 declares 264 bytes", "only 100"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn two_skins_share_joints_and_keep_their_own_inverse_binds() {
+    // A second node draws the same mesh with a second skin over the same joints, but without
+    // inverse bind matrices (identity): (root, I) is shared, (tip, I) is a new skin joint.
+    let mut model = TinyModel::new();
+    model.json["scenes"][0]["nodes"] = serde_json_value("[0, 2, 3]");
+    model.json["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json_value(r#"{"name": "tri2", "mesh": 0, "skin": 1}"#));
+    model.json["skins"].as_array_mut().unwrap().push(serde_json_value(r#"{"joints": [0, 1]}"#));
+    let c = import(&model).unwrap();
+    assert_eq!(c.skeleton.joints.len(), 3, "{:?}", c.skeleton.joints);
+    assert_eq!(c.mesh.vertex_count(), 6);
+    assert_eq!(c.mesh.triangle_count(), 2);
+    // The second copy's joints are remapped into the merged list: tip with identity is joint 2.
+    assert_eq!(&c.mesh.joints[3..], &[[0, 0, 0, 0], [0, 2, 0, 0], [2, 0, 0, 0]]);
+    let rest = c.skinned_positions(&c.skeleton.rest_pose());
+    assert_eq!(&rest[..3], &c.mesh.positions[..3], "the first skin reproduces its bind pose");
+    // Identity inverse bind on tip (at y = 1): the tip-bound corner lands one unit higher.
+    assert_eq!(rest[5], Vec3::new(0.0, 2.0, 0.0));
+}
+
+fn serde_json_value(text: &str) -> Value {
+    gltf_json::deserialize::from_str(text).unwrap()
 }

@@ -6,27 +6,8 @@ use clod_viewer::simplify::{SimplifyInput, SimplifyOptions};
 use glam::{DVec3, Vec3};
 use std::collections::HashMap;
 
-/// SplitMix64: a tiny deterministic generator for test data.
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1).
-    pub fn signed(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 23) as f32 - 1.0
-    }
-
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-}
+/// The seeded generator of the test data (SplitMix64, shared with the metrics).
+pub use clod_viewer::metrics::SplitMix64 as Rng;
 
 /// A test mesh with its simplifier inputs.
 #[derive(Clone, Debug, Default)]

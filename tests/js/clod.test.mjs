@@ -1,0 +1,66 @@
+// The articulated progressive mesh through the JavaScript API (issue 4), from node.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { api, modelBytes } from './models.mjs';
+
+test('buildClod on CesiumMan: levels, ancestors, continuous LOD and skinning', (t) => {
+  const bytes = modelBytes('CesiumMan.glb');
+  if (!bytes) return t.skip('model missing');
+  const character = api.Character.fromGlb(bytes);
+  const progress = [];
+  const clod = character.buildClod({ onProgress: (f) => progress.push(f) });
+  assert.ok(clod.buildMs > 0);
+  assert.ok(progress.length >= 2 && progress.at(-1) === 1 && progress.every((f, i) => i === 0 || f >= progress[i - 1]));
+  assert.ok(clod.levelCount >= 2);
+  assert.ok(clod.ancestorTableBytes > 0);
+
+  let previous = null;
+  for (let i = 0; i < clod.levelCount; i++) {
+    const level = clod.level(i);
+    assert.equal(level.indices.length, 3 * level.triangleCount);
+    assert.equal(level.positions.length, 3 * level.vertexCount);
+    assert.ok(level.indices.every((v) => v < level.vertexCount));
+    if (previous) {
+      assert.ok(level.triangleCount < previous.triangleCount, 'levels get coarser');
+      assert.ok(level.error >= previous.error, 'error never decreases');
+      const ancestors = clod.ancestors(i - 1);
+      assert.equal(ancestors.length, previous.vertexCount);
+      assert.ok(ancestors.every((a) => a < level.vertexCount), 'every ancestor exists in the coarser level');
+    }
+    const skinned = clod.levelSkinnedPositions(i, 'Anim_0', 0.7);
+    assert.equal(skinned.length, level.positions.length);
+    assert.ok(skinned.every(Number.isFinite));
+    previous = level;
+  }
+  assert.equal(clod.level(0).triangleCount, character.triangleCount, 'level 0 is the input mesh');
+  assert.throws(() => clod.ancestors(clod.levelCount - 1), /coarser/);
+  assert.throws(() => clod.level(clod.levelCount), /does not exist/);
+
+  for (const want of [4000, 2000, 1000]) {
+    const mesh = clod.meshAt(want);
+    assert.ok(mesh.indices.length / 3 <= want);
+    assert.equal(mesh.positions.length, mesh.bindPositions.length);
+    assert.ok(mesh.indices.every((v) => v < mesh.positions.length / 3));
+  }
+  clod.free();
+  character.free();
+});
+
+test('buildClod options: poses, explicit levels, half-edge mode, and clear errors', (t) => {
+  const bytes = modelBytes('Fox.glb');
+  if (!bytes) return t.skip('model missing');
+  const fox = api.Character.fromGlb(bytes);
+  for (const pose of ['bind', 'multi', 'mid-clip', { clip: 'Walk', time: 0.3 }]) {
+    const clod = fox.buildClod({ pose, levels: [400, 200, 100], mode: 'halfedge' });
+    assert.equal(clod.levelCount, 3);
+    assert.deepEqual([0, 1, 2].map((i) => clod.level(i).triangleCount <= [400, 200, 100][i]), [true, true, true]);
+    clod.free();
+  }
+  assert.throws(() => fox.buildClod({ levels: [100, 200] }), /decreasing/);
+  assert.throws(() => fox.buildClod({ levels: [1.5] }), /whole/);
+  assert.throws(() => fox.buildClod({ pose: 'sideways' }), /pose must be/);
+  assert.throws(() => fox.buildClod({ pose: { clip: 'Dance', time: 1 } }), /Dance/);
+  assert.throws(() => fox.buildClod({ mode: 'quarter' }), /mode must be/);
+  assert.throws(() => fox.buildClod({ onProgress: 3 }), /onProgress/);
+  fox.free();
+});
