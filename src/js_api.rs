@@ -127,8 +127,8 @@ impl Character {
 
     /// Builds the articulated progressive mesh and its discrete levels.
     ///
-    /// `options` (all optional): `pose`: `'mid-clip'` (default: the middle of the first clip),
-    /// `'bind'`, `'multi'` (quadrics over frames of every clip) or `{ clip, time }`;
+    /// `options` (all optional): `pose`: `'multi'` (default: quadrics over frames of every clip),
+    /// `'mid-clip'` (the middle of the first clip), `'bind'` or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
     /// `weights`: `'survivor'` (default) or `'blend'` for the skin weights of new vertices;
     /// `onProgress(fraction)`: called with fractions from 0 to 1.
