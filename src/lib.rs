@@ -14,12 +14,15 @@ pub mod clod;
 pub mod import;
 pub mod mesh;
 pub mod metrics;
+pub mod render;
 pub mod skeleton;
 pub mod skinning;
 pub mod vertex_cache;
 
 #[cfg(feature = "js")]
 pub mod js_api;
+#[cfg(feature = "web")]
+pub mod web;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;
