@@ -4,10 +4,14 @@
 //! JavaScript `Error` whose message names the problem; nothing here panics on user input.
 //! Typed arrays are copies: JavaScript may keep them after the `Character` is freed.
 
+use std::rc::Rc;
+
 use wasm_bindgen::prelude::*;
 
 use crate::character::Character as CoreCharacter;
+use crate::clod::{self, ClodOptions, SimplificationPose};
 use crate::import;
+use crate::simplify::CollapseMode;
 
 /// Installs the panic hook that prints Rust panics to the console (called once on load).
 #[wasm_bindgen(start)]
@@ -18,7 +22,7 @@ pub fn start() {
 /// A skinned glTF character loaded into the core.
 #[wasm_bindgen]
 pub struct Character {
-    inner: CoreCharacter,
+    inner: Rc<CoreCharacter>,
 }
 
 #[wasm_bindgen]
@@ -29,7 +33,7 @@ impl Character {
     #[wasm_bindgen(js_name = fromGlb)]
     pub fn from_glb(bytes: &[u8]) -> Result<Character, JsError> {
         let inner = import::from_glb(bytes).map_err(|e| JsError::new(&e.to_string()))?;
-        Ok(Character { inner })
+        Ok(Character { inner: Rc::new(inner) })
     }
 
     /// Loads a JSON glTF (`.gltf`); `resolve(uri)` returns the bytes of an external buffer or
@@ -47,7 +51,7 @@ impl Character {
             Some(js_sys::Uint8Array::new(&value).to_vec())
         };
         let inner = import::from_gltf(json, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
-        Ok(Character { inner })
+        Ok(Character { inner: Rc::new(inner) })
     }
 
     /// Number of triangles of the merged mesh.
@@ -112,21 +116,240 @@ impl Character {
     #[wasm_bindgen(js_name = skinnedPositions)]
     pub fn skinned_positions(&self, clip_name: &str, time_seconds: f64) -> Result<Vec<f32>, JsError> {
         if !time_seconds.is_finite() {
-            return Err(JsError::new(&format!("time must be a finite number of seconds, got {time_seconds}")));
+            return Err(JsError::new(&format!(
+                "time must be a finite number of seconds, got {time_seconds}"
+            )));
         }
         let clip = self.find_clip(clip_name)?;
         let pose = self.inner.pose_at(clip, time_seconds as f32);
         Ok(flatten(&self.inner.skinned_positions(&pose)))
     }
+
+    /// Builds the articulated progressive mesh and its discrete levels.
+    ///
+    /// `options` (all optional): `pose`: `'bind'`, `'multi'` (default) or `{ clip, time }`;
+    /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
+    /// `onProgress(fraction)`: called with fractions from 0 to 1.
+    ///
+    /// Throws on malformed options (naming the option) or a mesh that cannot be simplified.
+    #[wasm_bindgen(js_name = buildClod)]
+    pub fn build_clod(&self, options: JsValue) -> Result<Clod, JsError> {
+        let (options, on_progress) = parse_clod_options(&options, &self.inner)?;
+        let started = now_ms();
+        let mut progress = |fraction: f32| {
+            if let Some(f) = &on_progress {
+                let _ = f.call1(&JsValue::NULL, &JsValue::from_f64(fraction as f64));
+            }
+        };
+        let built =
+            clod::build(&self.inner, &options, &mut progress).map_err(|e| JsError::new(&e.to_string()))?;
+        Ok(Clod { character: Rc::clone(&self.inner), clod: built, build_ms: now_ms() - started })
+    }
 }
 
 impl Character {
     fn find_clip(&self, name: &str) -> Result<&crate::animation::Clip, JsError> {
-        self.inner.clip(name).ok_or_else(|| {
-            let names: Vec<&str> = self.inner.clips.iter().map(|c| c.name.as_str()).collect();
-            JsError::new(&format!("no clip named {name:?}; this character has {names:?}"))
+        self.inner.clip(name).ok_or_else(|| unknown_clip(&self.inner, name))
+    }
+}
+
+/// An articulated progressive mesh: discrete levels with ancestor tables, and any triangle count
+/// in between.
+#[wasm_bindgen]
+pub struct Clod {
+    character: Rc<CoreCharacter>,
+    clod: clod::Clod,
+    build_ms: f64,
+}
+
+#[wasm_bindgen]
+impl Clod {
+    /// Wall-clock milliseconds the build took (progressive mesh, levels and tables).
+    #[wasm_bindgen(getter, js_name = buildMs)]
+    pub fn build_ms(&self) -> f64 {
+        self.build_ms
+    }
+
+    /// Number of discrete levels, finest first.
+    #[wasm_bindgen(getter, js_name = levelCount)]
+    pub fn level_count(&self) -> usize {
+        self.clod.levels.len()
+    }
+
+    /// Bytes used by all ancestor tables.
+    #[wasm_bindgen(getter, js_name = ancestorTableBytes)]
+    pub fn ancestor_table_bytes(&self) -> usize {
+        self.clod.ancestor_table_bytes()
+    }
+
+    /// Level `i`: `{ triangleCount, vertexCount, error, indices: Uint32Array, positions:
+    /// Float32Array }`, positions in the simplification pose, error in model units.
+    ///
+    /// Throws when `i` is out of range.
+    pub fn level(&self, i: usize) -> Result<js_sys::Object, JsError> {
+        let level = self.level_ref(i)?;
+        let out = js_sys::Object::new();
+        set(&out, "triangleCount", JsValue::from(level.triangle_count() as u32))?;
+        set(&out, "vertexCount", JsValue::from(level.vertices.len() as u32))?;
+        set(&out, "error", JsValue::from_f64(level.error as f64))?;
+        set(&out, "indices", js_sys::Uint32Array::from(level.indices.as_slice()).into())?;
+        let positions = flatten(&self.clod.level_pose_positions(i));
+        set(&out, "positions", js_sys::Float32Array::from(positions.as_slice()).into())?;
+        Ok(out)
+    }
+
+    /// For every vertex of level `i`, the index of its ancestor vertex in level `i + 1`.
+    ///
+    /// Throws when `i` is not a level with a coarser one after it.
+    pub fn ancestors(&self, i: usize) -> Result<Vec<u32>, JsError> {
+        if i + 1 >= self.clod.levels.len() {
+            return Err(JsError::new(&format!(
+                "ancestors({i}): levels 0..{} have a coarser level after them",
+                self.clod.levels.len().saturating_sub(1)
+            )));
+        }
+        Ok(self.clod.levels[i].ancestors.clone())
+    }
+
+    /// The continuous level with at most `triangles` triangles (the coarsest if fewer are
+    /// impossible): `{ indices, positions, bindPositions }` (simplification pose and bind space).
+    #[wasm_bindgen(js_name = meshAt)]
+    pub fn mesh_at(&self, triangles: usize) -> Result<js_sys::Object, JsError> {
+        let pm = &self.clod.apm.pm;
+        let mut cursor = pm.cursor();
+        cursor.set_triangle_count(triangles);
+        let vertices = cursor.vertices();
+        let positions: Vec<f32> =
+            vertices.iter().flat_map(|&v| pm.positions[v as usize].to_array()).collect();
+        let bind: Vec<f32> =
+            vertices.iter().flat_map(|&v| self.clod.apm.bind_positions[v as usize].to_array()).collect();
+        let out = js_sys::Object::new();
+        set(&out, "indices", js_sys::Uint32Array::from(cursor.indices()).into())?;
+        set(&out, "positions", js_sys::Float32Array::from(positions.as_slice()).into())?;
+        set(&out, "bindPositions", js_sys::Float32Array::from(bind.as_slice()).into())?;
+        Ok(out)
+    }
+
+    /// CPU-skinned positions (xyz per vertex) of level `i` in clip `clipName` at `timeSeconds`.
+    ///
+    /// Throws for an unknown level or clip, or a non-finite time.
+    #[wasm_bindgen(js_name = levelSkinnedPositions)]
+    pub fn level_skinned_positions(
+        &self,
+        i: usize,
+        clip_name: &str,
+        time_seconds: f64,
+    ) -> Result<Vec<f32>, JsError> {
+        self.level_ref(i)?;
+        if !time_seconds.is_finite() {
+            return Err(JsError::new(&format!(
+                "time must be a finite number of seconds, got {time_seconds}"
+            )));
+        }
+        let clip = self.character.clip(clip_name).ok_or_else(|| unknown_clip(&self.character, clip_name))?;
+        let skin = self.character.skin_matrices(&self.character.pose_at(clip, time_seconds as f32));
+        Ok(flatten(&self.clod.level_skinned_positions(i, &skin)))
+    }
+}
+
+impl Clod {
+    fn level_ref(&self, i: usize) -> Result<&clod::LodLevel, JsError> {
+        self.clod.levels.get(i).ok_or_else(|| {
+            JsError::new(&format!("level {i} does not exist; there are {}", self.clod.levels.len()))
         })
     }
+}
+
+/// Reads `buildClod`'s options object; see [`Character::build_clod`].
+fn parse_clod_options(
+    options: &JsValue,
+    character: &CoreCharacter,
+) -> Result<(ClodOptions, Option<js_sys::Function>), JsError> {
+    let mut out = ClodOptions::default();
+    if options.is_undefined() || options.is_null() {
+        return Ok((out, None));
+    }
+    let get =
+        |key: &str| js_sys::Reflect::get(options, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+    let pose = get("pose");
+    if let Some(name) = pose.as_string() {
+        out.pose = match name.as_str() {
+            "bind" => SimplificationPose::Bind,
+            "multi" => out.pose,
+            other => {
+                return Err(JsError::new(&format!(
+                    "pose must be 'bind', 'multi' or {{ clip, time }}, got {other:?}"
+                )))
+            }
+        };
+    } else if pose.is_object() {
+        let clip = js_sys::Reflect::get(&pose, &"clip".into()).ok().and_then(|c| c.as_string());
+        let time = js_sys::Reflect::get(&pose, &"time".into()).ok().and_then(|t| t.as_f64());
+        let (Some(clip), Some(time)) = (clip, time) else {
+            return Err(JsError::new("pose { clip, time } needs a clip name and a time in seconds"));
+        };
+        if character.clip(&clip).is_none() {
+            return Err(unknown_clip(character, &clip));
+        }
+        out.pose = SimplificationPose::ClipFrame { clip, time: time as f32 };
+    } else if !pose.is_undefined() {
+        return Err(JsError::new("pose must be 'bind', 'multi' or { clip, time }"));
+    }
+    let levels = get("levels");
+    if !levels.is_undefined() {
+        let array: &js_sys::Array =
+            levels.dyn_ref().ok_or_else(|| JsError::new("levels must be an array of triangle counts"))?;
+        let counts = array
+            .iter()
+            .map(|v| match v.as_f64() {
+                Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= u32::MAX as f64 => Ok(n as usize),
+                _ => {
+                    Err(JsError::new(&format!("levels must hold positive whole triangle counts, got {v:?}")))
+                }
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        out.level_triangles = Some(counts);
+    }
+    match get("mode").as_string().as_deref() {
+        None if get("mode").is_undefined() => {}
+        Some("full") => out.mode = CollapseMode::Full,
+        Some("halfedge") => out.mode = CollapseMode::HalfEdge,
+        _ => return Err(JsError::new("mode must be 'full' or 'halfedge'")),
+    }
+    let on_progress = get("onProgress");
+    let on_progress = if on_progress.is_undefined() {
+        None
+    } else {
+        Some(
+            on_progress
+                .dyn_into::<js_sys::Function>()
+                .map_err(|_| JsError::new("onProgress must be a function"))?,
+        )
+    };
+    Ok((out, on_progress))
+}
+
+fn unknown_clip(character: &CoreCharacter, name: &str) -> JsError {
+    let names: Vec<&str> = character.clips.iter().map(|c| c.name.as_str()).collect();
+    JsError::new(&format!("no clip named {name:?}; this character has {names:?}"))
+}
+
+fn set(object: &js_sys::Object, key: &str, value: JsValue) -> Result<(), JsError> {
+    js_sys::Reflect::set(object, &JsValue::from_str(key), &value)
+        .map(|_| ())
+        .map_err(|_| JsError::new("cannot build result object"))
+}
+
+/// Milliseconds from `performance.now()` (browser and node); 0 where there is none.
+fn now_ms() -> f64 {
+    let performance =
+        js_sys::Reflect::get(&js_sys::global(), &"performance".into()).unwrap_or(JsValue::UNDEFINED);
+    js_sys::Reflect::get(&performance, &"now".into())
+        .ok()
+        .and_then(|f| f.dyn_into::<js_sys::Function>().ok())
+        .and_then(|f| f.call0(&performance).ok())
+        .and_then(|t| t.as_f64())
+        .unwrap_or(0.0)
 }
 
 fn flatten(v: &[glam::Vec3]) -> Vec<f32> {
@@ -151,7 +374,8 @@ pub fn surface_distance(
     let d = crate::metrics::surface_distance((&a, indices_a), (&b, indices_b), samples as usize, seed as u64)
         .ok_or_else(|| JsError::new("surfaceDistance: a mesh has no triangle of positive area"))?;
     let out = js_sys::Object::new();
-    js_sys::Reflect::set(&out, &"mean".into(), &f64::from(d.mean).into()).map_err(|_| JsError::new("Reflect.set"))?;
+    js_sys::Reflect::set(&out, &"mean".into(), &f64::from(d.mean).into())
+        .map_err(|_| JsError::new("Reflect.set"))?;
     js_sys::Reflect::set(&out, &"hausdorff".into(), &f64::from(d.hausdorff).into())
         .map_err(|_| JsError::new("Reflect.set"))?;
     Ok(out)
@@ -166,11 +390,15 @@ pub fn bounds_diagonal(positions: &[f32]) -> f64 {
 
 fn checked_mesh(positions: &[f32], indices: &[u32], which: &str) -> Result<Vec<glam::Vec3>, JsError> {
     if positions.len() % 3 != 0 || indices.len() % 3 != 0 {
-        return Err(JsError::new(&format!("surfaceDistance: the {which} mesh's arrays are not xyz / triangle lists")));
+        return Err(JsError::new(&format!(
+            "surfaceDistance: the {which} mesh's arrays are not xyz / triangle lists"
+        )));
     }
     let count = positions.len() / 3;
     if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
-        return Err(JsError::new(&format!("surfaceDistance: the {which} mesh has index {bad} but {count} vertices")));
+        return Err(JsError::new(&format!(
+            "surfaceDistance: the {which} mesh has index {bad} but {count} vertices"
+        )));
     }
     Ok(positions.chunks_exact(3).map(glam::Vec3::from_slice).collect())
 }

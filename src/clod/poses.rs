@@ -10,10 +10,11 @@
 //! skinned image would have from the frame's plane. All quadrics are area-weighted and averaged
 //! over frames, so one pose or many give errors on the same scale (squared model units).
 
-use glam::{DMat4, DVec4, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
 use crate::animation::Wrap;
 use crate::character::Character;
+use crate::simplify::Quadric;
 use crate::skinning::blend_matrix;
 
 /// Which static pose the progressive mesh is simplified in.
@@ -58,90 +59,101 @@ pub fn multi_pose_frames(character: &Character, frames_per_clip: usize) -> Vec<V
     frames
 }
 
-/// A symmetric 4×4 quadric in f64 (products of plane vectors lose too much in f32 for large
-/// models far from the origin).
-pub type PlaneQuadric = DMat4;
-
-/// Area-weighted plane quadrics of every vertex, averaged over `frames`, pulled back into the
-/// space of `p0_matrices` (see the module docs).
+/// Adds the area-weighted plane quadrics of one frame to every vertex, pulled back into `P0`
+/// space (see the module docs), each scaled by `frame_weight` (1 / number of frames).
 ///
-/// `frame_vertex_matrices[f][v]` is `Mf(v)`; `p0_inverse[v]` is `M0(v)⁻¹`. Triangles with no
-/// area in a frame add nothing for that frame.
-pub fn pulled_back_quadrics(
+/// `frame_matrices[v]` is `Mf(v)`; `p0_inverse[v]` is `M0(v)⁻¹`, or `None` when `P0` is the bind
+/// pose (every `M0` is the identity). Triangles with no area in the frame add nothing.
+pub fn add_frame_quadrics(
+    quadrics: &mut [Quadric],
     bind_positions: &[Vec3],
     indices: &[u32],
-    p0_inverse: &[Mat4],
-    frame_vertex_matrices: &[Vec<Mat4>],
-) -> Vec<PlaneQuadric> {
-    let mut quadrics = vec![DMat4::ZERO; bind_positions.len()];
-    let frame_weight = 1.0 / frame_vertex_matrices.len().max(1) as f64;
-    for matrices in frame_vertex_matrices {
-        for tri in indices.chunks_exact(3) {
-            let v = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-            let [a, b, c] = v.map(|i| matrices[i].transform_point3(bind_positions[i]).as_dvec3());
-            let n = (b - a).cross(c - a);
-            let double_area = n.length();
-            if double_area <= 0.0 || !double_area.is_finite() {
-                continue;
-            }
-            let normal = n / double_area;
-            let plane = normal.extend(-normal.dot(a));
-            let weight = 0.5 * double_area * frame_weight;
-            for &i in &v {
-                // The frame's plane seen from P0 space: π' = A(v)ᵀ π with A(v) = Mf(v) · M0(v)⁻¹.
-                let a_from_p0 = (matrices[i] * p0_inverse[i]).as_dmat4();
-                let pulled = a_from_p0.transpose() * plane;
-                quadrics[i] += outer(pulled, pulled) * weight;
-            }
+    p0_inverse: Option<&[Mat4]>,
+    frame_matrices: &[Mat4],
+    frame_weight: f64,
+) {
+    for tri in indices.chunks_exact(3) {
+        let v = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let [a, b, c] = v.map(|i| frame_matrices[i].transform_point3(bind_positions[i]).as_dvec3());
+        let n = (b - a).cross(c - a);
+        let double_area = n.length();
+        // Zero-area or non-finite (NaN compares false) triangles have no plane.
+        if double_area.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !double_area.is_finite() {
+            continue;
+        }
+        let normal = n / double_area;
+        let plane = normal.extend(-normal.dot(a));
+        let weight = 0.5 * double_area * frame_weight;
+        for &i in &v {
+            // The frame's plane seen from P0 space: π' = A(v)ᵀ π with A(v) = Mf(v) · M0(v)⁻¹.
+            let frame_from_p0 = match p0_inverse {
+                Some(inverse) => (frame_matrices[i] * inverse[i]).as_dmat4(),
+                None => frame_matrices[i].as_dmat4(),
+            };
+            let pulled = frame_from_p0.transpose() * plane;
+            quadrics[i].add(&Quadric::from_plane(pulled.truncate(), pulled.w, weight));
         }
     }
-    quadrics
-}
-
-fn outer(a: DVec4, b: DVec4) -> DMat4 {
-    DMat4::from_cols(a * b.x, a * b.y, a * b.z, a * b.w)
-}
-
-/// Evaluates a quadric at a point: `[p 1] Q [p 1]ᵀ`.
-pub fn quadric_error(q: &PlaneQuadric, p: Vec3) -> f64 {
-    let h = p.as_dvec3().extend(1.0);
-    h.dot(*q * h)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
+    const TRIANGLE: [Vec3; 3] = [Vec3::ZERO, Vec3::X, Vec3::Y];
+
+    fn one_frame(frame: Mat4) -> Vec<Quadric> {
+        let mut q = vec![Quadric::ZERO; 3];
+        add_frame_quadrics(&mut q, &TRIANGLE, &[0, 1, 2], None, &[frame; 3], 1.0);
+        q
+    }
+
     #[test]
     fn a_pulled_back_plane_measures_distance_in_its_frame() {
-        // One triangle in the z = 0 plane; the frame lifts everything by 2 along z.
-        let bind = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let lift = vec![Mat4::from_translation(Vec3::new(0.0, 0.0, 2.0)); 3];
-        let q = pulled_back_quadrics(&bind, &[0, 1, 2], &[Mat4::IDENTITY; 3], &[lift]);
-        // Area 0.5, three corners: each corner's quadric has weight 0.5.
-        assert!((quadric_error(&q[0], Vec3::ZERO)).abs() < 1e-12);
-        // 1 unit off the plane in P0 is 1 unit off in the frame too: error = weight · 1².
-        assert!((quadric_error(&q[0], Vec3::new(0.3, 0.3, 1.0)) - 0.5).abs() < 1e-9);
+        // The frame lifts everything by 2 along z; P0 is the bind pose.
+        let q = one_frame(Mat4::from_translation(Vec3::new(0.0, 0.0, 2.0)));
+        // Area 0.5 on each corner; on the plane the error is 0, one unit off it is 0.5 · 1².
+        assert!(q[0].error(DVec3::ZERO).abs() < 1e-12);
+        assert!((q[0].error(DVec3::new(0.3, 0.3, 1.0)) - 0.5).abs() < 1e-9);
+        assert_eq!(q[0].weight, 0.5);
     }
 
     #[test]
     fn frames_average_rather_than_add() {
-        let bind = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let id = vec![Mat4::IDENTITY; 3];
-        let one = pulled_back_quadrics(&bind, &[0, 1, 2], &id, std::slice::from_ref(&id));
-        let two = pulled_back_quadrics(&bind, &[0, 1, 2], &id, &[id.clone(), id.clone()]);
-        let p = Vec3::new(0.1, 0.2, 0.7);
-        assert!((quadric_error(&one[1], p) - quadric_error(&two[1], p)).abs() < 1e-12);
+        let mut two = vec![Quadric::ZERO; 3];
+        for _ in 0..2 {
+            add_frame_quadrics(&mut two, &TRIANGLE, &[0, 1, 2], None, &[Mat4::IDENTITY; 3], 0.5);
+        }
+        let one = one_frame(Mat4::IDENTITY);
+        let p = DVec3::new(0.1, 0.2, 0.7);
+        assert!((one[1].error(p) - two[1].error(p)).abs() < 1e-12);
     }
 
     #[test]
     fn a_scaled_frame_scales_the_measured_distance() {
         // The frame doubles z: a point 1 above the plane in P0 is 2 above it in the frame.
-        let bind = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let stretch = vec![Mat4::from_scale(Vec3::new(1.0, 1.0, 2.0)); 3];
-        let q = pulled_back_quadrics(&bind, &[0, 1, 2], &[Mat4::IDENTITY; 3], &[stretch]);
-        assert!((quadric_error(&q[2], Vec3::new(0.0, 0.0, 1.0)) - 0.5 * 4.0).abs() < 1e-9);
+        let q = one_frame(Mat4::from_scale(Vec3::new(1.0, 1.0, 2.0)));
+        assert!((q[2].error(DVec3::Z) - 0.5 * 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn p0_space_is_undone_before_the_frame_applies() {
+        // P0 moved the vertices up by 1; the frame puts them back at z = 0. A P0 point at z = 1
+        // is on the frame's plane.
+        let p0 = Mat4::from_translation(Vec3::Z);
+        let mut q = vec![Quadric::ZERO; 3];
+        add_frame_quadrics(
+            &mut q,
+            &TRIANGLE,
+            &[0, 1, 2],
+            Some(&[p0.inverse(); 3]),
+            &[Mat4::IDENTITY; 3],
+            1.0,
+        );
+        assert!(q[0].error(DVec3::new(0.2, 0.2, 1.0)).abs() < 1e-12);
+        assert!((q[0].error(DVec3::new(0.2, 0.2, 0.0)) - 0.5).abs() < 1e-9);
     }
 }

@@ -51,23 +51,9 @@ fn is_ci() -> bool {
     get.call0(&JsValue::NULL).ok().and_then(|v| v.as_bool()).unwrap_or(false)
 }
 
-/// A tiny deterministic generator (splitmix64) for seeded test inputs.
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..n` (`n > 0`).
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-}
+/// The seeded generator the tests use (splitmix64, shared with the metrics).
+#[allow(unused_imports)]
+pub use clod_viewer::metrics::SplitMix64 as SplitMix;
 
 /// A tiny skinned triangle as glTF JSON plus its binary buffer, for tests that edit one thing and
 /// check the importer's answer. Two joints: `root` at the origin and `tip` at (0, 1, 0) below it;

@@ -1,0 +1,111 @@
+//! Discrete levels of a progressive mesh and the ancestor tables that join them (for geomorphs,
+//! Hoppe 1996 §4.2; Houle & Poulin 2001 §5).
+//!
+//! Level `i` is the progressive mesh after `kᵢ` collapses, compacted to the vertices its triangles
+//! use, with triangles ordered for the vertex cache (Tipsify) and vertices numbered in first-use
+//! order. Its ancestor table gives, for every vertex of level `i`, the index of the vertex of level
+//! `i + 1` it collapses into: the same vertex for position and for attributes, since the collapse
+//! forest merges wedges (position + attributes) as units. Tables chain: composing `i → i+1` and
+//! `i+1 → i+2` gives `i → i+2`.
+
+use crate::progressive::ProgressiveMesh;
+use crate::vertex_cache::{first_use_order, optimize_triangle_order};
+
+const NONE: u32 = u32::MAX;
+
+/// One discrete level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LodLevel {
+    /// Collapses applied to reach this level.
+    pub collapses: usize,
+    /// The triangle count that was asked for.
+    pub requested_triangles: usize,
+    /// Triangle list indexing `vertices`, ordered for the vertex cache.
+    pub indices: Vec<u32>,
+    /// The progressive-mesh vertex id of each level vertex. Vertices past those the triangles use
+    /// are kept only as ancestors of the finer level (rare: their triangles all degenerated).
+    pub vertices: Vec<u32>,
+    /// For each vertex, its ancestor's index in the next coarser level; empty for the coarsest.
+    pub ancestors: Vec<u32>,
+    /// Geometric error: the running maximum RMS plane distance of the collapses so far
+    /// (position units), non-decreasing from level to level.
+    pub error: f32,
+}
+
+impl LodLevel {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// `active[v]`: the vertex that stands for vertex id `v` after `k` collapses.
+///
+/// One pass over ids in decreasing order works because a parent is always created after its
+/// children, so it has a larger id.
+pub fn active_ancestors(pm: &ProgressiveMesh, k: usize) -> Vec<u32> {
+    let total = pm.vertex_total();
+    let mut active = vec![0u32; total];
+    for v in (0..total).rev() {
+        let p = pm.parent[v];
+        active[v] =
+            if p != NONE && pm.born_at[p as usize] as usize <= k { active[p as usize] } else { v as u32 };
+    }
+    active
+}
+
+/// Extracts the levels closest to `requested` triangle counts (finest first) and links them.
+///
+/// A count the progressive mesh cannot reach gives its coarsest level; requests that land on the
+/// same collapse count are merged, so every level differs from the next.
+pub fn build_levels(pm: &ProgressiveMesh, requested: &[usize]) -> Vec<LodLevel> {
+    let mut levels: Vec<LodLevel> = Vec::new();
+    let mut new_from_id: Vec<Vec<u32>> = Vec::new();
+    let mut actives: Vec<Vec<u32>> = Vec::new();
+    for &triangles in requested {
+        let k = pm.collapses_for_triangle_count(triangles);
+        if levels.last().is_some_and(|l| l.collapses == k) {
+            continue;
+        }
+        let active = active_ancestors(pm, k);
+        let live = pm.triangle_count_after(k);
+        let by_id: Vec<u32> = pm.indices[..3 * live].iter().map(|&v| active[v as usize]).collect();
+        let ordered = optimize_triangle_order(&by_id, pm.vertex_total());
+        let (indices, vertices) = first_use_order(&ordered, pm.vertex_total());
+        let mut slot = vec![NONE; pm.vertex_total()];
+        for (i, &v) in vertices.iter().enumerate() {
+            slot[v as usize] = i as u32;
+        }
+        new_from_id.push(slot);
+        actives.push(active);
+        levels.push(LodLevel {
+            collapses: k,
+            requested_triangles: triangles,
+            indices,
+            vertices,
+            ancestors: Vec::new(),
+            error: pm.distance_after(k),
+        });
+    }
+    // Link fine to coarse; an ancestor the coarser level's triangles no longer use is appended
+    // to it, so it gets its own ancestor when that level is linked in turn.
+    for i in 0..levels.len().saturating_sub(1) {
+        let active = &actives[i + 1];
+        let (fine, coarse) = levels.split_at_mut(i + 1);
+        let (fine, coarse) = (&mut fine[i], &mut coarse[0]);
+        let slots = &mut new_from_id[i + 1];
+        fine.ancestors = fine
+            .vertices
+            .iter()
+            .map(|&v| {
+                let a = active[v as usize] as usize;
+                if slots[a] == NONE {
+                    slots[a] = coarse.vertices.len() as u32;
+                    coarse.vertices.push(a as u32);
+                }
+                slots[a]
+            })
+            .collect();
+    }
+    levels
+}

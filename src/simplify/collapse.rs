@@ -1,0 +1,835 @@
+//! The collapse engine: quadric set-up, a strict priority queue of position-edge collapses, the
+//! validity checks, and the collapse itself, which appends to a [`CollapseLog`].
+//!
+//! A collapse `u → v` removes position class `u`; every wedge of `u` merges with the wedge of `v`
+//! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
+//! along it), so seams stay closed. Placement ([`Placement`]): interior–interior edges get the
+//! quadric minimiser, line–line edges (along a border, seam or material line) the best point of
+//! the edge, everything else (and every half-edge collapse) keeps `v`'s position.
+//!
+//! The queue is a binary heap keyed by (cost, u, v) — a total order, so the collapse sequence is
+//! deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
+//! check marks both ends *parked*; when a later collapse changes a parked class's neighbourhood,
+//! its edges are queued again.
+
+use super::quadric::{Quadric, TriangleFrame};
+use super::topology::{
+    classify, other_corners, position_classes, Constraint, CornerLists, Kind, PositionClasses, NONE,
+};
+use super::{CollapseMode, SimplifyInput, SimplifyOptions, StopReason};
+use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
+use glam::{DVec3, Vec3};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Penalty-plane weight (× edge length², so it scales like the area-weighted face quadrics) for
+/// mesh borders and material borders. Moving a border vertex by δ across its border then costs
+/// about 10 × δ² per unit of area, an order of magnitude more than bending the surface by δ:
+/// silhouettes and material outlines go last (Garland & Heckbert 1997 use a similar weight).
+const BORDER_WEIGHT: f64 = 10.0;
+/// Penalty weight for attribute seams: they are not geometric boundaries, so they only weigh as
+/// much as the surface; their attribute quadrics carry the rest.
+const SEAM_WEIGHT: f64 = 1.0;
+/// A triangle may not face away from the input triangle it descends from: the cosine between its
+/// normal and that input normal must exceed this (≈ 89.9°). Turning past 90° is what makes a
+/// back face out of a front face (a fold); the small margin keeps the decision stable under
+/// rounding.
+const MIN_COS_TO_INPUT: f64 = 1e-3;
+/// A new triangle whose smallest angle is below about 1e-6 rad (|cross| < 1e-6 · longest edge²)
+/// counts as degenerate: its normal is rounding noise.
+const MIN_SIN_ANGLE: f64 = 1e-6;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Placement {
+    /// The survivor keeps its position.
+    Fixed,
+    /// The best point of the edge (both ends on one constraint line).
+    Segment,
+    /// The quadric minimiser, or the best point of the edge when that is singular or far away.
+    Free,
+}
+
+/// A collapse of class `u` into class `v` at position `p`.
+#[derive(Clone, Copy, Debug)]
+struct Plan {
+    u: u32,
+    v: u32,
+    p: DVec3,
+    cost: f64,
+    distance: f64,
+    placement: Placement,
+}
+
+/// Heap entry; `Ord` is reversed so that `BinaryHeap` pops the smallest (cost, u, v).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Entry {
+    /// `f64::to_bits` of a non-negative cost: integer order equals numeric order.
+    cost: u64,
+    u: u32,
+    v: u32,
+    version_u: u32,
+    version_v: u32,
+}
+
+impl Ord for Entry {
+    fn cmp(&self, other: &Self) -> Ordering {
+        (other.cost, other.u, other.v).cmp(&(self.cost, self.u, self.v))
+    }
+}
+
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// Runs the whole simplification on validated input.
+pub(crate) fn run(input: &SimplifyInput, options: &SimplifyOptions) -> CollapseLog {
+    let mut engine = Engine::new(input, options);
+    engine.queue_all_edges();
+    let stop = engine.collapse_until(options.target_triangles, options.max_error as f64);
+    engine.log.stop = stop;
+    engine.log
+}
+
+struct Engine<'a> {
+    weights: &'a [f32],
+    materials: &'a [u32],
+    mode: CollapseMode,
+    channels: usize,
+    normal_channel: Option<usize>,
+    // Static structure.
+    classes: PositionClasses,
+    kind: Vec<Kind>,
+    input_normal: Vec<DVec3>,
+    // Mesh state.
+    lists: CornerLists,
+    corner_wedge: Vec<u32>,
+    triangle_alive: Vec<bool>,
+    live_triangles: usize,
+    position: Vec<DVec3>,
+    geometric: Vec<Quadric>,
+    appearance: Vec<Quadric>,
+    /// Per wedge: `[Σ area, then per channel Σ area·w·g (3), Σ area·w·d]`, stride `1 + 4m`.
+    wedge_sums: Vec<f64>,
+    wedge_attributes: Vec<f32>,
+    vertex_id: Vec<u32>,
+    alive: Vec<bool>,
+    version: Vec<u32>,
+    parked: Vec<bool>,
+    // Queue.
+    heap: BinaryHeap<Entry>,
+    // Scratch (reused, never reallocated once grown).
+    mark: Vec<u32>,
+    stamp: u32,
+    u_pair: Vec<u32>,
+    u_seen: Vec<bool>,
+    v_partner: Vec<u32>,
+    neighbours: Vec<u32>,
+    second_neighbours: Vec<u32>,
+    new_attributes: Vec<f32>,
+    log: CollapseLog,
+}
+
+impl<'a> Engine<'a> {
+    fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
+        let positions = input.positions;
+        let indices = input.indices;
+        let m = input.attribute_weights.len();
+        let triangle_count = indices.len() / 3;
+        let classes = position_classes(positions, indices);
+        let class_count = classes.count();
+        let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
+        let (kind, sides) = classify(&classes, &lists, indices, input.triangle_materials);
+        let position: Vec<DVec3> =
+            classes.representative.iter().map(|&v| positions[v as usize].as_dvec3()).collect();
+        let corner_point = |corner: usize| positions[indices[corner] as usize].as_dvec3();
+        let input_normal: Vec<DVec3> = (0..triangle_count)
+            .map(|t| {
+                let (p0, p1, p2) = (corner_point(3 * t), corner_point(3 * t + 1), corner_point(3 * t + 2));
+                (p1 - p0).cross(p2 - p0).normalize_or_zero()
+            })
+            .collect();
+
+        // Geometric quadrics: the caller's, or area-weighted face planes.
+        let mut geometric = vec![Quadric::ZERO; class_count];
+        match input.vertex_quadrics {
+            Some(quadrics) => {
+                for (v, q) in quadrics.iter().enumerate() {
+                    let c = classes.class_of[v];
+                    if c != NONE {
+                        geometric[c as usize] += q;
+                    }
+                }
+            }
+            None => {
+                for t in 0..triangle_count {
+                    let q = Quadric::from_triangle(
+                        corner_point(3 * t),
+                        corner_point(3 * t + 1),
+                        corner_point(3 * t + 2),
+                    );
+                    for k in 0..3 {
+                        geometric[classes.class_of[indices[3 * t + k] as usize] as usize] += &q;
+                    }
+                }
+            }
+        }
+        // Penalty planes: through each constraint edge, perpendicular to its triangle.
+        for side in &sides {
+            let (a, b) = (side.corner as usize, other_corners(side.corner).0 as usize);
+            let normal = input_normal[a / 3];
+            let (pa, pb) = (corner_point(a), corner_point(b));
+            let edge = pb - pa;
+            let plane = edge.cross(normal).normalize_or_zero();
+            if plane == DVec3::ZERO {
+                continue;
+            }
+            let weight = match side.constraint {
+                Constraint::Border => BORDER_WEIGHT,
+                Constraint::Seam => SEAM_WEIGHT,
+            } * edge.length_squared();
+            let mut q = Quadric::from_plane(plane, -plane.dot(pa), weight);
+            q.weight = 0.0;
+            for corner in [a, b] {
+                geometric[classes.class_of[indices[corner] as usize] as usize] += &q;
+            }
+        }
+
+        // Attribute quadrics (Hoppe 1999): the A, b, c parts per class, the cross terms per wedge.
+        let stride = 1 + 4 * m;
+        let mut appearance = vec![Quadric::ZERO; class_count];
+        let mut wedge_sums = vec![0.0f64; positions.len() * stride];
+        if m > 0 {
+            for t in 0..triangle_count {
+                let corners = [3 * t, 3 * t + 1, 3 * t + 2];
+                let Some(frame) = TriangleFrame::new(
+                    corner_point(corners[0]),
+                    corner_point(corners[1]),
+                    corner_point(corners[2]),
+                ) else {
+                    continue;
+                };
+                for corner in corners {
+                    wedge_sums[indices[corner] as usize * stride] += frame.area;
+                }
+                for (j, &w) in input.attribute_weights.iter().enumerate() {
+                    if w <= 0.0 {
+                        continue;
+                    }
+                    let s = corners.map(|k| input.attributes[indices[k] as usize * m + j] as f64);
+                    let (g, d) = frame.gradient(s[0], s[1], s[2]);
+                    let aw = frame.area * w as f64;
+                    let mut q = Quadric::from_plane(g, d, aw);
+                    q.weight = 0.0;
+                    for corner in corners {
+                        let wedge = indices[corner] as usize;
+                        appearance[classes.class_of[wedge] as usize] += &q;
+                        let base = wedge * stride + 1 + 4 * j;
+                        wedge_sums[base] += aw * g.x;
+                        wedge_sums[base + 1] += aw * g.y;
+                        wedge_sums[base + 2] += aw * g.z;
+                        wedge_sums[base + 3] += aw * d;
+                    }
+                }
+            }
+        }
+
+        let n = positions.len();
+        let log = CollapseLog {
+            positions: positions.to_vec(),
+            attributes: input.attributes.to_vec(),
+            parent: vec![NONE; n],
+            born_at: vec![0; n],
+            survivor_source: vec![NONE; n],
+            triangle_death: vec![NONE; triangle_count],
+            corner_changes: Vec::new(),
+            steps: Vec::new(),
+            stop: StopReason::NoValidCollapse,
+        };
+        Engine {
+            weights: input.attribute_weights,
+            materials: input.triangle_materials,
+            mode: options.mode,
+            channels: m,
+            normal_channel: options.normal_channel,
+            kind,
+            input_normal,
+            lists,
+            corner_wedge: indices.to_vec(),
+            triangle_alive: vec![true; triangle_count],
+            live_triangles: triangle_count,
+            position,
+            geometric,
+            appearance,
+            wedge_sums,
+            wedge_attributes: input.attributes.to_vec(),
+            vertex_id: (0..n as u32).collect(),
+            alive: vec![true; class_count],
+            version: vec![0; class_count],
+            parked: vec![false; class_count],
+            heap: BinaryHeap::new(),
+            mark: vec![0; class_count],
+            stamp: 0,
+            u_pair: Vec::new(),
+            u_seen: Vec::new(),
+            v_partner: Vec::new(),
+            neighbours: Vec::new(),
+            second_neighbours: Vec::new(),
+            new_attributes: vec![0.0; m],
+            log,
+            classes,
+        }
+    }
+
+    #[inline]
+    fn class_at(&self, corner: u32) -> u32 {
+        self.classes.class_of[self.corner_wedge[corner as usize] as usize]
+    }
+
+    fn next_stamp(&mut self) -> u32 {
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.mark.fill(0);
+            self.stamp = 1;
+        }
+        self.stamp
+    }
+
+    /// The distinct neighbour classes of `c`, into `out` (cleared first).
+    fn neighbours_into(&mut self, c: u32, out: &mut Vec<u32>) {
+        out.clear();
+        let stamp = self.next_stamp();
+        self.mark[c as usize] = stamp;
+        for corner in self.lists.iter(c) {
+            let (n, p) = other_corners(corner);
+            for x in [self.classes.class_of[self.corner_wedge[n as usize] as usize], self.class_at(p)] {
+                if self.mark[x as usize] != stamp {
+                    self.mark[x as usize] = stamp;
+                    out.push(x);
+                }
+            }
+        }
+    }
+
+    fn queue_all_edges(&mut self) {
+        let mut neighbours = std::mem::take(&mut self.neighbours);
+        for c in 0..self.classes.count() as u32 {
+            self.neighbours_into(c, &mut neighbours);
+            for &x in &neighbours {
+                if c < x {
+                    self.queue_edge(c, x);
+                }
+            }
+        }
+        self.neighbours = neighbours;
+    }
+
+    fn push(&mut self, plan: &Plan) {
+        let (u, v) = (plan.u, plan.v);
+        let (u, v) = if matches!(plan.placement, Placement::Fixed) {
+            (u, v)
+        } else {
+            // Symmetric placements: both directions give the same point and cost; the end nearer
+            // the new point survives (it keeps its skin weights), ties to the lower class id.
+            let du = (plan.p - self.position[u as usize]).length_squared();
+            let dv = (plan.p - self.position[v as usize]).length_squared();
+            if du < dv || (du == dv && u < v) {
+                (v, u)
+            } else {
+                (u, v)
+            }
+        };
+        self.heap.push(Entry {
+            cost: plan.cost.to_bits(),
+            u,
+            v,
+            version_u: self.version[u as usize],
+            version_v: self.version[v as usize],
+        });
+    }
+
+    /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
+    /// per valid direction.
+    fn queue_edge(&mut self, a: u32, b: u32) {
+        if let Some(plan) = self.plan(a, b) {
+            self.push(&plan);
+            if plan.placement != Placement::Fixed {
+                return;
+            }
+        }
+        if let Some(plan) = self.plan(b, a) {
+            self.push(&plan);
+        }
+    }
+
+    /// Pops collapses in order until the target, the error limit or the end of the queue.
+    fn collapse_until(&mut self, target: usize, max_error: f64) -> StopReason {
+        loop {
+            if target > 0 && self.live_triangles <= target {
+                return StopReason::TargetReached;
+            }
+            let Some(entry) = self.heap.pop() else {
+                return StopReason::NoValidCollapse;
+            };
+            let (u, v) = (entry.u as usize, entry.v as usize);
+            if !self.alive[u]
+                || !self.alive[v]
+                || self.version[u] != entry.version_u
+                || self.version[v] != entry.version_v
+            {
+                continue;
+            }
+            if f64::from_bits(entry.cost) > max_error {
+                return StopReason::MaxErrorReached;
+            }
+            let Some(plan) = self.plan(entry.u, entry.v) else {
+                continue;
+            };
+            if !self.check(&plan) {
+                self.parked[u] = true;
+                self.parked[v] = true;
+                continue;
+            }
+            self.apply(&plan);
+        }
+    }
+
+    /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
+    /// kinds forbid it, the classes no longer share an edge, or the pairing would tear a seam.
+    ///
+    /// Leaves the pairing in `u_pair` (per wedge of `u`: index into `v`'s wedges), `u_seen` (the
+    /// wedge is used by a live triangle) and `v_partner` (per wedge of `v`: index into `u`'s
+    /// wedges or NONE) for [`Engine::apply`].
+    fn plan(&mut self, u: u32, v: u32) -> Option<Plan> {
+        let (ui, vi) = (u as usize, v as usize);
+        if u == v || !self.alive[ui] || !self.alive[vi] || self.kind[ui] == Kind::Locked {
+            return None;
+        }
+        let u_wedges = self.classes.wedges_of(u);
+        let v_wedges = self.classes.wedges_of(v);
+        self.u_pair.clear();
+        self.u_pair.resize(u_wedges.len(), NONE);
+        self.u_seen.clear();
+        self.u_seen.resize(u_wedges.len(), false);
+        let mut edge_triangles = 0;
+        let mut first_side = (NONE, NONE, NONE);
+        let mut constraint = false;
+        for corner in self.lists.iter(u) {
+            let wu = self.corner_wedge[corner as usize];
+            let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
+            self.u_seen[iu] = true;
+            let (n, p) = other_corners(corner);
+            let class_of = |k: u32| self.classes.class_of[self.corner_wedge[k as usize] as usize];
+            let v_corner = if class_of(n) == v {
+                n
+            } else if class_of(p) == v {
+                p
+            } else {
+                continue;
+            };
+            edge_triangles += 1;
+            let wv = self.corner_wedge[v_corner as usize];
+            let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
+            if self.u_pair[iu] == NONE {
+                self.u_pair[iu] = iv;
+            } else if self.u_pair[iu] != iv {
+                return None; // one wedge of u would have to follow two wedges of v
+            }
+            let material = self.materials.get(corner as usize / 3).copied().unwrap_or(0);
+            if edge_triangles == 1 {
+                first_side = (wu, wv, material);
+            } else if first_side != (wu, wv, material) {
+                constraint = true;
+            }
+        }
+        if edge_triangles == 0 || edge_triangles > 2 {
+            return None;
+        }
+        constraint |= edge_triangles == 1;
+        let ku = self.kind[ui];
+        let kv = self.kind[vi];
+        if ku == Kind::Line && !constraint {
+            return None; // a line vertex only slides along its line
+        }
+        // Every used wedge of u needs its own wedge of v: no seam opens or closes.
+        self.v_partner.clear();
+        self.v_partner.resize(v_wedges.len(), NONE);
+        for iu in 0..u_wedges.len() {
+            if !self.u_seen[iu] {
+                continue;
+            }
+            let iv = self.u_pair[iu];
+            if iv == NONE || self.v_partner[iv as usize] != NONE {
+                return None;
+            }
+            self.v_partner[iv as usize] = iu as u32;
+        }
+
+        let placement = match (self.mode, ku, kv) {
+            (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
+            (CollapseMode::Full, Kind::Line, Kind::Line) => Placement::Segment,
+            _ => Placement::Fixed,
+        };
+        let mut geometric = self.geometric[ui];
+        geometric += &self.geometric[vi];
+        let mut total = geometric;
+        total += &self.appearance[ui];
+        total += &self.appearance[vi];
+        let stride = 1 + 4 * self.channels;
+        for (iv, &wv) in v_wedges.iter().enumerate() {
+            let partner = self.v_partner[iv];
+            let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
+            // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
+            // attributes; an unmerged wedge keeps its own unless it moves.
+            let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
+            let sums =
+                |w: u32, k: usize| if w == NONE { 0.0 } else { self.wedge_sums[w as usize * stride + k] };
+            let alpha = sums(wv, 0) + sums(wu, 0);
+            for (j, &w) in self.weights.iter().enumerate() {
+                if w <= 0.0 {
+                    continue;
+                }
+                let k = 1 + 4 * j;
+                let g = DVec3::new(
+                    sums(wv, k) + sums(wu, k),
+                    sums(wv, k + 1) + sums(wu, k + 1),
+                    sums(wv, k + 2) + sums(wu, k + 2),
+                );
+                let d = sums(wv, k + 3) + sums(wu, k + 3);
+                let aw = alpha * w as f64;
+                if optimal {
+                    total.subtract_optimal_attribute(g, d, aw);
+                } else {
+                    let s = self.wedge_attributes[wv as usize * self.channels + j] as f64;
+                    total.add_fixed_attribute(g, d, aw, s);
+                }
+            }
+        }
+        // Canonical order for the symmetric placements, so both directions agree bit for bit.
+        let (lo, hi) = (self.position[u.min(v) as usize], self.position[u.max(v) as usize]);
+        let p = match placement {
+            Placement::Fixed => self.position[vi],
+            Placement::Segment => total.minimize_on_segment(lo, hi),
+            Placement::Free => match total.minimize() {
+                // Beyond one edge length from the midpoint the minimiser has left the
+                // neighbourhood: the quadric is nearly flat there and only extrapolates.
+                Some(p) if (p - 0.5 * (lo + hi)).length() <= (hi - lo).length() => p,
+                _ => total.minimize_on_segment(lo, hi),
+            },
+        };
+        // The stored position is f32: price and check exactly the point that will be output.
+        let p = p.as_vec3().as_dvec3();
+        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let cost = total.error(p).max(0.0) / weight;
+        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
+        cost.is_finite().then_some(Plan { u, v, p, cost, distance, placement })
+    }
+
+    /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
+    /// or wedges); non-manifold edges count as constraints.
+    fn edge_is_constraint(&self, a: u32, b: u32) -> bool {
+        let mut count = 0;
+        let mut first = (NONE, NONE, NONE);
+        for corner in self.lists.iter(a) {
+            let (n, p) = other_corners(corner);
+            let b_corner = if self.class_at(n) == b {
+                n
+            } else if self.class_at(p) == b {
+                p
+            } else {
+                continue;
+            };
+            let side = (
+                self.corner_wedge[corner as usize],
+                self.corner_wedge[b_corner as usize],
+                self.materials.get(corner as usize / 3).copied().unwrap_or(0),
+            );
+            count += 1;
+            if count == 1 {
+                first = side;
+            } else if side != first {
+                return true;
+            }
+        }
+        count != 2
+    }
+
+    /// Whether triangle `t` is acceptable after the corners at class `moving` go to `p`: not
+    /// degenerate, within ~90° of its input normal, and not turned by 90° or more in this step.
+    fn triangle_ok(&self, t: usize, moving: u32, p: DVec3) -> bool {
+        let old = [0, 1, 2].map(|k| self.position[self.class_at((3 * t + k) as u32) as usize]);
+        let new = [0, 1, 2].map(|k| if self.class_at((3 * t + k) as u32) == moving { p } else { old[k] });
+        let cross = (new[1] - new[0]).cross(new[2] - new[0]);
+        let longest = (new[1] - new[0])
+            .length_squared()
+            .max((new[2] - new[0]).length_squared())
+            .max((new[2] - new[1]).length_squared());
+        let length = cross.length();
+        if !(length > MIN_SIN_ANGLE * longest) {
+            return false;
+        }
+        let input = self.input_normal[t];
+        if input != DVec3::ZERO && cross.dot(input) <= MIN_COS_TO_INPUT * length {
+            return false;
+        }
+        let old_cross = (old[1] - old[0]).cross(old[2] - old[0]);
+        old_cross == DVec3::ZERO || cross.dot(old_cross) > 0.0
+    }
+
+    /// The topological and geometric checks of a planned collapse: link condition, no duplicate
+    /// triangles, no merged constraint lines, no folds.
+    fn check(&mut self, plan: &Plan) -> bool {
+        let (u, v) = (plan.u, plan.v);
+        let stamp = self.next_stamp();
+        for corner in self.lists.iter(v) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            self.mark[a as usize] = stamp;
+            self.mark[b as usize] = stamp;
+        }
+        let mut opposite = [NONE; 2];
+        let mut count = 0;
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            let x = if a == v {
+                b
+            } else if b == v {
+                a
+            } else {
+                continue;
+            };
+            if count == 2 {
+                return false;
+            }
+            opposite[count] = x;
+            count += 1;
+        }
+        if count == 2 && opposite[0] == opposite[1] {
+            return false;
+        }
+        let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            if a == v || b == v {
+                continue;
+            }
+            // Link condition: u and v may only share the neighbours across the edge.
+            for x in [a, b] {
+                if self.mark[x as usize] == stamp && !is_opposite(x) {
+                    return false;
+                }
+            }
+            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b).
+            if is_opposite(a) && is_opposite(b) && self.has_triangle(v, a, b) {
+                return false;
+            }
+        }
+        if self.kind[u as usize] == Kind::Line {
+            for &x in &opposite[..count] {
+                // Two constraint edges of one triangle would merge into one.
+                if self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
+                    return false;
+                }
+            }
+        }
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            if self.class_at(n) != v
+                && self.class_at(p) != v
+                && !self.triangle_ok(corner as usize / 3, u, plan.p)
+            {
+                return false;
+            }
+        }
+        if plan.p != self.position[v as usize] {
+            for corner in self.lists.iter(v) {
+                let (n, p) = other_corners(corner);
+                if self.class_at(n) != u
+                    && self.class_at(p) != u
+                    && !self.triangle_ok(corner as usize / 3, v, plan.p)
+                {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    fn has_triangle(&self, c: u32, a: u32, b: u32) -> bool {
+        self.lists.iter(c).any(|corner| {
+            let (n, p) = other_corners(corner);
+            let (x, y) = (self.class_at(n), self.class_at(p));
+            (x == a && y == b) || (x == b && y == a)
+        })
+    }
+
+    /// Performs a planned (and checked) collapse; `plan` must be the latest [`Engine::plan`]
+    /// call, whose pairing scratch it uses.
+    fn apply(&mut self, plan: &Plan) {
+        let (u, v, p) = (plan.u, plan.v, plan.p);
+        let (ui, vi) = (u as usize, v as usize);
+        let step = self.log.steps.len() as u32 + 1;
+        let m = self.channels;
+        let stride = 1 + 4 * m;
+        let moved = p != self.position[vi];
+        let first_new = self.log.positions.len() as u32;
+        let u_range = self.classes.wedge_start[ui] as usize..self.classes.wedge_start[ui + 1] as usize;
+        let v_range = self.classes.wedge_start[vi] as usize..self.classes.wedge_start[vi + 1] as usize;
+
+        // New vertices: one per merged wedge pair, and one per unmerged wedge of v that moves.
+        let pv = self.position[vi];
+        let pu = self.position[ui];
+        let edge = pu - pv;
+        let t = if edge.length_squared() > 0.0 {
+            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        for (iv, k) in v_range.clone().enumerate() {
+            let wv = self.classes.wedges[k] as usize;
+            let partner = self.v_partner[iv];
+            let wu = if partner == NONE {
+                usize::MAX
+            } else {
+                self.classes.wedges[u_range.start + partner as usize] as usize
+            };
+            if wu == usize::MAX && !moved {
+                continue;
+            }
+            if wu != usize::MAX {
+                for k in 0..stride {
+                    self.wedge_sums[wv * stride + k] += self.wedge_sums[wu * stride + k];
+                }
+            }
+            for j in 0..m {
+                let own = self.wedge_attributes[wv * m + j];
+                let w = self.weights[j] as f64;
+                let alpha_w = self.wedge_sums[wv * stride] * w;
+                let value = if self.mode == CollapseMode::HalfEdge {
+                    own
+                } else if w > 0.0 && alpha_w > 0.0 {
+                    let base = wv * stride + 1 + 4 * j;
+                    let g = DVec3::new(
+                        self.wedge_sums[base],
+                        self.wedge_sums[base + 1],
+                        self.wedge_sums[base + 2],
+                    );
+                    ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
+                } else if wu != usize::MAX {
+                    let other = self.wedge_attributes[wu * m + j];
+                    (own as f64 + (other as f64 - own as f64) * t) as f32
+                } else {
+                    own
+                };
+                self.new_attributes[j] = value;
+            }
+            if let (Some(c), CollapseMode::Full) = (self.normal_channel, self.mode) {
+                let normal = Vec3::from_slice(&self.new_attributes[c..c + 3]).normalize_or_zero();
+                if normal != Vec3::ZERO {
+                    self.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
+                }
+            }
+            let id = self.log.positions.len() as u32;
+            self.log.positions.push(p.as_vec3());
+            self.log.attributes.extend_from_slice(&self.new_attributes);
+            self.log.parent.push(NONE);
+            self.log.born_at.push(step);
+            self.log.survivor_source.push(self.vertex_id[wv]);
+            self.log.parent[self.vertex_id[wv] as usize] = id;
+            if wu != usize::MAX {
+                self.log.parent[self.vertex_id[wu] as usize] = id;
+            }
+            self.vertex_id[wv] = id;
+            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.new_attributes);
+        }
+        let new_count = self.log.positions.len() as u32 - first_new;
+        // Wedges of u that no live triangle uses any more end here too.
+        for (iu, k) in u_range.clone().enumerate() {
+            let wu = self.classes.wedges[k] as usize;
+            if !self.u_seen[iu] && new_count > 0 {
+                self.log.parent[self.vertex_id[wu] as usize] = first_new;
+            }
+        }
+
+        // Triangles: those on the edge die, the others move their u corner to v's wedge.
+        let mut thirds = [NONE; 2];
+        let mut dead = 0;
+        for corner in self.lists.iter(u) {
+            let ci = corner as usize;
+            let (n, pc) = other_corners(corner);
+            let (a, b) = (
+                self.classes.class_of[self.corner_wedge[n as usize] as usize],
+                self.classes.class_of[self.corner_wedge[pc as usize] as usize],
+            );
+            if a == v || b == v {
+                self.triangle_alive[ci / 3] = false;
+                self.log.triangle_death[ci / 3] = step;
+                self.live_triangles -= 1;
+                if dead < 2 {
+                    thirds[dead] = if a == v { b } else { a };
+                }
+                dead += 1;
+                continue;
+            }
+            let wu = self.corner_wedge[ci];
+            let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
+            let wv = self.classes.wedges[v_range.start + self.u_pair[iu] as usize];
+            self.corner_wedge[ci] = wv;
+            self.log.corner_changes.push(RawCornerChange {
+                corner,
+                from_vertex: self.vertex_id[wu as usize],
+                to_vertex: self.vertex_id[wv as usize],
+            });
+        }
+        self.lists.splice(u, v);
+        let alive = &self.triangle_alive;
+        self.lists.retain(v, |c| alive[c as usize / 3]);
+        for x in thirds.into_iter().filter(|&x| x != NONE && x != u && x != v) {
+            self.lists.retain(x, |c| alive[c as usize / 3]);
+        }
+
+        // Class state.
+        let gu = self.geometric[ui];
+        self.geometric[vi] += &gu;
+        let au = self.appearance[ui];
+        self.appearance[vi] += &au;
+        self.position[vi] = p;
+        self.alive[ui] = false;
+        self.version[ui] = self.version[ui].wrapping_add(1);
+        self.version[vi] = self.version[vi].wrapping_add(1);
+        self.parked[vi] = false;
+        self.log.steps.push(RawStep {
+            cost: plan.cost,
+            distance: plan.distance,
+            triangles_after: self.live_triangles as u32,
+            first_new_vertex: first_new,
+            new_vertex_count: new_count,
+            corner_changes_end: self.log.corner_changes.len() as u32,
+        });
+
+        // Re-queue: every edge of v, and every edge of a parked neighbour.
+        let mut neighbours = std::mem::take(&mut self.neighbours);
+        let mut second = std::mem::take(&mut self.second_neighbours);
+        self.neighbours_into(v, &mut neighbours);
+        for &x in &neighbours {
+            if self.parked[x as usize] {
+                self.parked[x as usize] = false;
+                self.version[x as usize] = self.version[x as usize].wrapping_add(1);
+                self.neighbours_into(x, &mut second);
+                for &y in &second {
+                    if y != v {
+                        self.queue_edge(x, y);
+                    }
+                }
+            }
+        }
+        for &x in &neighbours {
+            self.queue_edge(v, x);
+        }
+        self.neighbours = neighbours;
+        self.second_neighbours = second;
+    }
+}

@@ -1,0 +1,323 @@
+//! Quadric error metrics (Garland & Heckbert 1997) and Hoppe's (1999) memory-efficient
+//! attribute quadrics.
+//!
+//! A [`Quadric`] is the weighted sum of squared distances from a point `p` to a set of planes,
+//! `Q(p) = pᵀ A p + 2 b·p + c`. Face quadrics are weighted by triangle area, so
+//! `Q(p) / Q.weight` is a mean squared distance in position units².
+//!
+//! Attribute quadrics (Hoppe 1999, "New quadric metric for simplifying meshes with appearance
+//! attributes"): every face carries, per attribute channel, the linear field `s(p) = g·p + d` that
+//! interpolates the channel's three corner values over the face's plane ([`TriangleFrame`]). The
+//! error of a vertex at `p` with channel value `s` is `Σ area · w · (g·p + d − s)²`. Expanding it,
+//! the `A`, `b`, `c` parts are plain quadric terms and are summed into a 3×3 [`Quadric`]; only the
+//! cross terms `Σ area·w·g`, `Σ area·w·d` and `Σ area` are kept per wedge (4 numbers per channel
+//! instead of a (3+m)² matrix). Minimising over `s` in closed form leaves a 3×3 system in `p`
+//! (the Schur complement), see [`Quadric::subtract_optimal_attribute`].
+//!
+//! Everything is f64: quadric coefficients cancel catastrophically in f32 when a mesh lies far
+//! from the origin (c ≈ |b|² / |A|), and the solve needs the headroom.
+
+use glam::DVec3;
+
+/// A symmetric quadric `Q(p) = pᵀ A p + 2 b·p + c` with the total weight (area) of its planes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quadric {
+    /// Upper triangle of the symmetric 3×3 matrix `A`: `[xx, xy, xz, yy, yz, zz]`.
+    pub a: [f64; 6],
+    /// Linear term `b` (the error has `2 b·p`).
+    pub b: [f64; 3],
+    /// Constant term.
+    pub c: f64,
+    /// Sum of plane weights (triangle areas for face quadrics); errors are divided by it to get a
+    /// mean squared distance. Penalty planes add error but no weight.
+    pub weight: f64,
+}
+
+impl Quadric {
+    /// The quadric of no plane at all.
+    pub const ZERO: Quadric = Quadric { a: [0.0; 6], b: [0.0; 3], c: 0.0, weight: 0.0 };
+
+    /// The squared distance to the plane `normal·p + offset = 0`, times `weight`.
+    ///
+    /// `normal` should be unit length; a longer one scales the error by its squared length.
+    pub fn from_plane(normal: DVec3, offset: f64, weight: f64) -> Quadric {
+        let n = normal;
+        let w = weight;
+        Quadric {
+            a: [w * n.x * n.x, w * n.x * n.y, w * n.x * n.z, w * n.y * n.y, w * n.y * n.z, w * n.z * n.z],
+            b: [w * offset * n.x, w * offset * n.y, w * offset * n.z],
+            c: w * offset * offset,
+            weight: w,
+        }
+    }
+
+    /// The area-weighted plane quadric of a triangle (Garland & Heckbert's face quadric).
+    ///
+    /// A degenerate (zero-area) triangle has no plane and gives [`Quadric::ZERO`].
+    pub fn from_triangle(p0: DVec3, p1: DVec3, p2: DVec3) -> Quadric {
+        let cross = (p1 - p0).cross(p2 - p0);
+        let length = cross.length();
+        if !(length > 0.0) || !length.is_finite() {
+            return Quadric::ZERO;
+        }
+        let normal = cross / length;
+        Quadric::from_plane(normal, -normal.dot(p0), 0.5 * length)
+    }
+
+    /// Adds `other` to `self` (planes and weights).
+    pub fn add(&mut self, other: &Quadric) {
+        for k in 0..6 {
+            self.a[k] += other.a[k];
+        }
+        for k in 0..3 {
+            self.b[k] += other.b[k];
+        }
+        self.c += other.c;
+        self.weight += other.weight;
+    }
+
+    /// `A p`.
+    fn a_times(&self, p: DVec3) -> DVec3 {
+        let [xx, xy, xz, yy, yz, zz] = self.a;
+        DVec3::new(
+            xx * p.x + xy * p.y + xz * p.z,
+            xy * p.x + yy * p.y + yz * p.z,
+            xz * p.x + yz * p.y + zz * p.z,
+        )
+    }
+
+    /// The raw (weighted, not normalised) error `Q(p)`. Rounding can make it slightly negative.
+    pub fn error(&self, p: DVec3) -> f64 {
+        let ap = self.a_times(p);
+        p.dot(ap) + 2.0 * (self.b[0] * p.x + self.b[1] * p.y + self.b[2] * p.z) + self.c
+    }
+
+    /// The point minimising `Q`, or `None` when `A` is (nearly) singular.
+    ///
+    /// Solves `A p = −b` by an LDLᵀ factorisation (A is positive semi-definite). A pivot below
+    /// 1e-10 of the trace means `Q` is flat along some direction (coplanar or collinear planes):
+    /// the "minimiser" would be arbitrary along it, so the caller must place the point another
+    /// way (see [`Quadric::minimize_on_segment`]).
+    pub fn minimize(&self) -> Option<DVec3> {
+        let [xx, xy, xz, yy, yz, zz] = self.a;
+        let trace = xx + yy + zz;
+        if !(trace > 0.0) || !trace.is_finite() {
+            return None;
+        }
+        let eps = trace * 1e-10;
+        let d0 = xx;
+        if !(d0 > eps) {
+            return None;
+        }
+        let l10 = xy / d0;
+        let l20 = xz / d0;
+        let d1 = yy - l10 * xy;
+        if !(d1 > eps) {
+            return None;
+        }
+        let l21 = (yz - l20 * xy) / d1;
+        let d2 = zz - l20 * xz - l21 * l21 * d1;
+        if !(d2 > eps) {
+            return None;
+        }
+        let r = [-self.b[0], -self.b[1], -self.b[2]];
+        let y0 = r[0];
+        let y1 = r[1] - l10 * y0;
+        let y2 = r[2] - l20 * y0 - l21 * y1;
+        let x2 = y2 / d2;
+        let x1 = y1 / d1 - l21 * x2;
+        let x0 = y0 / d0 - l10 * x1 - l20 * x2;
+        let p = DVec3::new(x0, x1, x2);
+        p.is_finite().then_some(p)
+    }
+
+    /// The point of the segment `from..=to` minimising `Q`.
+    ///
+    /// `Q(from + t (to − from))` is a parabola in `t`; its minimum is clamped to `[0, 1]`. When
+    /// the parabola is flat (the segment lies in every plane, or is a point) the midpoint is
+    /// returned unless one end is better by more than a negligible margin; the midpoint keeps
+    /// triangles evenly sized when nothing else decides.
+    pub fn minimize_on_segment(&self, from: DVec3, to: DVec3) -> DVec3 {
+        let d = to - from;
+        let len2 = d.length_squared();
+        let trace = self.a[0] + self.a[3] + self.a[5];
+        let curvature = d.dot(self.a_times(d));
+        let slope = d.dot(self.a_times(from) + DVec3::from_array(self.b));
+        // Relative to the largest possible curvature along `d`, 1e-12 is rounding noise.
+        let flat = !(curvature > 1e-12 * trace * len2);
+        let t = if !flat {
+            (-slope / curvature).clamp(0.0, 1.0)
+        } else {
+            // Error changes by 2·slope over the segment; below 1e-9 of weight·|d|² (a mean squared
+            // distance of 1e-9 of the segment length²) that is noise, not a preference.
+            let tolerance = 1e-9 * self.weight.max(0.0) * len2;
+            if slope > tolerance {
+                0.0
+            } else if slope < -tolerance {
+                1.0
+            } else {
+                0.5
+            }
+        };
+        if t == 0.0 {
+            from
+        } else if t == 1.0 {
+            to
+        } else {
+            from + d * t
+        }
+    }
+
+    /// Removes one attribute channel's best achievable error: turns `Q(p) + error(p, s)` into
+    /// `min_s [Q(p) + error(p, s)]` for the channel sums `gradient = Σ area·w·g`,
+    /// `offset = Σ area·w·d` and `alpha_w = Σ area·w` (Hoppe 1999, eq. for the optimal `s`).
+    ///
+    /// The attribute error itself, `Σ area·w·(g·p+d)²`, must already be in `self` (it is summed
+    /// into the per-vertex quadric). Does nothing when `alpha_w` is not positive.
+    pub fn subtract_optimal_attribute(&mut self, gradient: DVec3, offset: f64, alpha_w: f64) {
+        if !(alpha_w > 0.0) {
+            return;
+        }
+        let k = 1.0 / alpha_w;
+        let g = gradient;
+        self.a[0] -= k * g.x * g.x;
+        self.a[1] -= k * g.x * g.y;
+        self.a[2] -= k * g.x * g.z;
+        self.a[3] -= k * g.y * g.y;
+        self.a[4] -= k * g.y * g.z;
+        self.a[5] -= k * g.z * g.z;
+        self.b[0] -= k * offset * g.x;
+        self.b[1] -= k * offset * g.y;
+        self.b[2] -= k * offset * g.z;
+        self.c -= k * offset * offset;
+    }
+
+    /// Adds the cross terms of one attribute channel held at the fixed value `s`:
+    /// `−2 s (gradient·p + offset) + alpha_w s²` (the `(g·p+d)²` part is already in `self`).
+    pub fn add_fixed_attribute(&mut self, gradient: DVec3, offset: f64, alpha_w: f64, s: f64) {
+        self.b[0] -= s * gradient.x;
+        self.b[1] -= s * gradient.y;
+        self.b[2] -= s * gradient.z;
+        self.c += alpha_w * s * s - 2.0 * s * offset;
+    }
+}
+
+impl std::ops::AddAssign<&Quadric> for Quadric {
+    fn add_assign(&mut self, other: &Quadric) {
+        self.add(other);
+    }
+}
+
+/// The frame of one triangle for Hoppe's attribute gradients: the linear field over the triangle's
+/// plane that takes given values at its three corners.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TriangleFrame {
+    p0: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    /// Inverse Gram matrix of (e1, e2): `[g11, g12, g22]` of `inv([[e1·e1, e1·e2], [e1·e2, e2·e2]])`.
+    inverse_gram: [f64; 3],
+    /// Triangle area.
+    pub area: f64,
+}
+
+impl TriangleFrame {
+    /// `None` for a degenerate triangle: |e1 × e2|² below 1e-12 of |e1|²|e2|² (angles under
+    /// ~1e-6 rad) would make the gradient blow up with rounding noise.
+    pub fn new(p0: DVec3, p1: DVec3, p2: DVec3) -> Option<TriangleFrame> {
+        let e1 = p1 - p0;
+        let e2 = p2 - p0;
+        let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let det = a * c - b * b;
+        if !(det > 1e-12 * a * c) || !det.is_finite() {
+            return None;
+        }
+        let inverse_gram = [c / det, -b / det, a / det];
+        Some(TriangleFrame { p0, e1, e2, inverse_gram, area: 0.5 * det.sqrt() })
+    }
+
+    /// The gradient `g` (in the triangle's plane) and offset `d` of the linear field with values
+    /// `s0, s1, s2` at the corners: `s(p) = g·p + d`.
+    pub fn gradient(&self, s0: f64, s1: f64, s2: f64) -> (DVec3, f64) {
+        let (ds1, ds2) = (s1 - s0, s2 - s0);
+        let [i11, i12, i22] = self.inverse_gram;
+        let alpha = i11 * ds1 + i12 * ds2;
+        let beta = i12 * ds1 + i22 * ds2;
+        let g = self.e1 * alpha + self.e2 * beta;
+        (g, s0 - g.dot(self.p0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn three_axis_planes_meet_at_their_corner() {
+        let mut q = Quadric::from_plane(DVec3::X, -1.0, 1.0);
+        q += &Quadric::from_plane(DVec3::Y, -2.0, 1.0);
+        q += &Quadric::from_plane(DVec3::Z, -3.0, 1.0);
+        let p = q.minimize().unwrap();
+        assert!((p - DVec3::new(1.0, 2.0, 3.0)).length() < 1e-12, "{p}");
+        assert!(q.error(p).abs() < 1e-12);
+        assert_eq!(q.error(DVec3::new(1.0, 2.0, 4.0)), 1.0);
+    }
+
+    #[test]
+    fn coplanar_planes_are_singular_and_the_segment_decides() {
+        let q = Quadric::from_triangle(DVec3::ZERO, DVec3::X, DVec3::Y);
+        assert!((q.weight - 0.5).abs() < 1e-15);
+        assert!(q.minimize().is_none());
+        // In-plane segment: flat, so the midpoint.
+        let m = q.minimize_on_segment(DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0));
+        assert_eq!(m, DVec3::new(1.0, 0.0, 0.0));
+        // Crossing the plane: the crossing point.
+        let c = q.minimize_on_segment(DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.0, 0.0, 3.0));
+        assert!((c - DVec3::ZERO).length() < 1e-12, "{c}");
+        // Not crossing: the nearer end.
+        let e = q.minimize_on_segment(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.0, 0.0, 3.0));
+        assert_eq!(e, DVec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn gradient_reproduces_corner_values() {
+        let (p0, p1, p2) = (DVec3::new(1.0, 0.0, 2.0), DVec3::new(3.0, 1.0, 2.0), DVec3::new(0.0, 4.0, 5.0));
+        let frame = TriangleFrame::new(p0, p1, p2).unwrap();
+        let (g, d) = frame.gradient(0.25, -1.0, 3.0);
+        for (p, s) in [(p0, 0.25), (p1, -1.0), (p2, 3.0)] {
+            assert!((g.dot(p) + d - s).abs() < 1e-12);
+        }
+        // The gradient lies in the plane.
+        assert!(g.dot((p1 - p0).cross(p2 - p0)).abs() < 1e-9);
+        assert!(TriangleFrame::new(p0, p1, p1).is_none());
+    }
+
+    #[test]
+    fn optimal_attribute_matches_brute_force() {
+        // Two faces with different fields for one channel; the reduced quadric at p must equal the
+        // error at the best s.
+        let f1 = TriangleFrame::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+        let f2 = TriangleFrame::new(DVec3::ZERO, DVec3::Y, DVec3::new(-1.0, 0.0, 0.5)).unwrap();
+        let (w, mut q, mut g_sum, mut d_sum, mut alpha) = (2.0, Quadric::ZERO, DVec3::ZERO, 0.0, 0.0);
+        for (f, s) in [(f1, [0.0, 1.0, 0.5]), (f2, [0.2, 0.9, -0.3])] {
+            let (g, d) = f.gradient(s[0], s[1], s[2]);
+            let aw = f.area * w;
+            let mut part = Quadric::from_plane(g, d, aw);
+            part.weight = 0.0;
+            q += &part;
+            g_sum += g * aw;
+            d_sum += d * aw;
+            alpha += aw;
+        }
+        let p = DVec3::new(0.1, 0.3, 0.05);
+        let s_best = (g_sum.dot(p) + d_sum) / alpha;
+        let mut fixed = q;
+        fixed.add_fixed_attribute(g_sum, d_sum, alpha, s_best);
+        let mut reduced = q;
+        reduced.subtract_optimal_attribute(g_sum, d_sum, alpha);
+        assert!((fixed.error(p) - reduced.error(p)).abs() < 1e-12);
+        let mut worse = q;
+        worse.add_fixed_attribute(g_sum, d_sum, alpha, s_best + 0.1);
+        assert!(worse.error(p) > fixed.error(p));
+    }
+}

@@ -1,0 +1,410 @@
+//! Mesh topology for the simplifier: position classes, per-class corner lists, vertex kinds and
+//! constraint edges.
+//!
+//! Vertices are *wedges* (Hoppe 1999): vertices whose positions are bit-identical (after mapping
+//! −0.0 to +0.0) form one *position class*; the simplifier collapses classes and carries their
+//! wedges along. Vertices that no triangle references take part in nothing and get no class.
+//!
+//! A position edge is a *constraint edge* when it is a mesh border (one triangle), a material
+//! border (two triangles with different materials) or an attribute seam (two triangles that use
+//! different wedges at one of its ends). Like meshoptimizer's vertex kinds, a class is
+//! - [`Kind::Interior`]: no constraint edge, its triangle fan is one closed disk;
+//! - [`Kind::Line`]: exactly two constraint edges, on one disk or half-disk: it lies on a border,
+//!   seam or material line and may only slide along it;
+//! - [`Kind::Locked`]: anything else (line ends and junctions, non-manifold or inconsistently
+//!   oriented edges, fans that are not a single disk, triangles with two corners at one position):
+//!   it is never removed, though other vertices may collapse onto it.
+
+use glam::Vec3;
+
+/// "No index" marker in the u32 index arrays.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// The role of a position class; see the module docs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Interior,
+    Line,
+    Locked,
+}
+
+/// Which kind of constraint an edge is; it selects the penalty-plane weight.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Constraint {
+    /// One triangle, or two triangles with different materials.
+    Border,
+    /// Two triangles of one material that use different wedges at an end.
+    Seam,
+}
+
+/// One side of a constraint edge: the edge from corner `corner` to the next corner of its
+/// triangle, for one penalty plane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ConstraintSide {
+    pub corner: u32,
+    pub constraint: Constraint,
+}
+
+/// Position classes of the referenced vertices.
+pub(crate) struct PositionClasses {
+    /// Class of each vertex, [`NONE`] for vertices no triangle references.
+    pub class_of: Vec<u32>,
+    /// `wedges[wedge_start[c]..wedge_start[c + 1]]` are the vertices of class `c`, ascending.
+    pub wedge_start: Vec<u32>,
+    pub wedges: Vec<u32>,
+    /// Lowest vertex index of each class (its position is the class's position).
+    pub representative: Vec<u32>,
+}
+
+impl PositionClasses {
+    pub fn count(&self) -> usize {
+        self.representative.len()
+    }
+
+    pub fn wedges_of(&self, class: u32) -> &[u32] {
+        let c = class as usize;
+        &self.wedges[self.wedge_start[c] as usize..self.wedge_start[c + 1] as usize]
+    }
+}
+
+/// Groups the referenced vertices by bit-identical position. Class ids follow the order of each
+/// class's lowest vertex index, so the result does not depend on sorting details.
+pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionClasses {
+    let key = |v: u32| {
+        let p = positions[v as usize];
+        // +0.0 and −0.0 are the same point; every other value compares by its bits.
+        let bits = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
+        (bits(p.x), bits(p.y), bits(p.z), v)
+    };
+    let mut referenced = vec![false; positions.len()];
+    for &i in indices {
+        referenced[i as usize] = true;
+    }
+    let mut order: Vec<u32> = (0..positions.len() as u32).filter(|&v| referenced[v as usize]).collect();
+    order.sort_unstable_by_key(|&v| key(v));
+    // Lowest vertex of each run of equal positions (the sort puts it first).
+    let mut lowest = vec![NONE; positions.len()];
+    let mut run_start = 0;
+    for i in 0..order.len() {
+        let (x, y, z, _) = key(order[i]);
+        let (sx, sy, sz, _) = key(order[run_start]);
+        if (x, y, z) != (sx, sy, sz) {
+            run_start = i;
+        }
+        lowest[order[i] as usize] = order[run_start];
+    }
+    let mut class_of = vec![NONE; positions.len()];
+    let mut representative = Vec::new();
+    for v in 0..positions.len() {
+        let low = lowest[v];
+        if low == NONE {
+            continue;
+        }
+        if low as usize == v {
+            class_of[v] = representative.len() as u32;
+            representative.push(v as u32);
+        } else {
+            class_of[v] = class_of[low as usize];
+        }
+    }
+    let mut wedge_start = vec![0u32; representative.len() + 1];
+    for &c in &class_of {
+        if c != NONE {
+            wedge_start[c as usize + 1] += 1;
+        }
+    }
+    for c in 0..representative.len() {
+        wedge_start[c + 1] += wedge_start[c];
+    }
+    let mut fill = wedge_start.clone();
+    let mut wedges = vec![0u32; wedge_start[representative.len()] as usize];
+    for (v, &c) in class_of.iter().enumerate() {
+        if c != NONE {
+            wedges[fill[c as usize] as usize] = v as u32;
+            fill[c as usize] += 1;
+        }
+    }
+    PositionClasses { class_of, wedge_start, wedges, representative }
+}
+
+/// For every class, a singly linked list of the corners (`3 × triangle + k`) at that class.
+/// Flat arrays: collapses splice lists together and unlink dead triangles without allocating.
+pub(crate) struct CornerLists {
+    head: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl CornerLists {
+    pub fn new(corner_class: impl Fn(usize) -> u32, corner_count: usize, class_count: usize) -> Self {
+        let mut head = vec![NONE; class_count];
+        let mut next = vec![NONE; corner_count];
+        // Pushing in reverse makes every list ascend by corner.
+        for corner in (0..corner_count).rev() {
+            let c = corner_class(corner) as usize;
+            next[corner] = head[c];
+            head[c] = corner as u32;
+        }
+        CornerLists { head, next }
+    }
+
+    /// The corners of `class`.
+    pub fn iter(&self, class: u32) -> CornerIter<'_> {
+        CornerIter { next: &self.next, at: self.head[class as usize] }
+    }
+
+    /// Moves every corner of `from` into `into`'s list.
+    pub fn splice(&mut self, from: u32, into: u32) {
+        let first = self.head[from as usize];
+        if first == NONE {
+            return;
+        }
+        let mut last = first;
+        while self.next[last as usize] != NONE {
+            last = self.next[last as usize];
+        }
+        self.next[last as usize] = self.head[into as usize];
+        self.head[into as usize] = first;
+        self.head[from as usize] = NONE;
+    }
+
+    /// Unlinks the corners of `class` for which `keep` is false.
+    pub fn retain(&mut self, class: u32, keep: impl Fn(u32) -> bool) {
+        let mut prev = NONE;
+        let mut at = self.head[class as usize];
+        while at != NONE {
+            let next = self.next[at as usize];
+            if keep(at) {
+                prev = at;
+            } else if prev == NONE {
+                self.head[class as usize] = next;
+            } else {
+                self.next[prev as usize] = next;
+            }
+            at = next;
+        }
+    }
+}
+
+pub(crate) struct CornerIter<'a> {
+    next: &'a [u32],
+    at: u32,
+}
+
+impl Iterator for CornerIter<'_> {
+    type Item = u32;
+    fn next(&mut self) -> Option<u32> {
+        if self.at == NONE {
+            return None;
+        }
+        let corner = self.at;
+        self.at = self.next[corner as usize];
+        Some(corner)
+    }
+}
+
+/// The two other corners of `corner`'s triangle, in winding order.
+#[inline]
+pub(crate) fn other_corners(corner: u32) -> (u32, u32) {
+    let base = corner - corner % 3;
+    let k = corner % 3;
+    (base + (k + 1) % 3, base + (k + 2) % 3)
+}
+
+/// Kinds of all classes and the sides of all constraint edges (each undirected edge once).
+pub(crate) fn classify(
+    classes: &PositionClasses,
+    lists: &CornerLists,
+    indices: &[u32],
+    materials: &[u32],
+) -> (Vec<Kind>, Vec<ConstraintSide>) {
+    let class_at = |corner: u32| classes.class_of[indices[corner as usize] as usize];
+    let material = |corner: u32| materials.get(corner as usize / 3).copied().unwrap_or(0);
+    let mut kinds = vec![Kind::Locked; classes.count()];
+    let mut sides = Vec::new();
+    // Per class scratch: (neighbour, 0 = edge leaves this class / 1 = edge enters it, corner of
+    // this class), and the link edges (a → b) of the fan.
+    let mut incident: Vec<(u32, u8, u32)> = Vec::new();
+    let mut link: Vec<(u32, u32)> = Vec::new();
+    for c in 0..classes.count() as u32 {
+        incident.clear();
+        link.clear();
+        let mut locked = false;
+        for corner in lists.iter(c) {
+            let (next, prev) = other_corners(corner);
+            let (a, b) = (class_at(next), class_at(prev));
+            if a == c || b == c || a == b {
+                // Two corners at one position: no fan structure to reason about.
+                locked = true;
+                continue;
+            }
+            incident.push((a, 0, corner));
+            incident.push((b, 1, corner));
+            link.push((a, b));
+        }
+        incident.sort_unstable();
+        let mut constraint_count = 0;
+        let mut start = 0;
+        while start < incident.len() {
+            let neighbour = incident[start].0;
+            let mut end = start;
+            while end < incident.len() && incident[end].0 == neighbour {
+                end += 1;
+            }
+            let run = &incident[start..end];
+            let outs = run.iter().filter(|e| e.1 == 0).count();
+            let constraint = match (outs, run.len()) {
+                (_, 1) => Some(Constraint::Border),
+                (1, 2) => {
+                    // run[0] leaves c (corner → neighbour is `next`), run[1] enters c.
+                    let (c0, c1) = (run[0].2, run[1].2);
+                    let n0 = other_corners(c0).0;
+                    let n1 = other_corners(c1).1;
+                    if material(c0) != material(c1) {
+                        Some(Constraint::Border)
+                    } else if indices[c0 as usize] != indices[c1 as usize]
+                        || indices[n0 as usize] != indices[n1 as usize]
+                    {
+                        Some(Constraint::Seam)
+                    } else {
+                        None
+                    }
+                }
+                _ => {
+                    // Three or more triangles, or two with the same orientation.
+                    locked = true;
+                    None
+                }
+            };
+            if let Some(constraint) = constraint {
+                constraint_count += 1;
+                if c < neighbour {
+                    for &(_, dir, corner) in run {
+                        // The side's edge must run from `corner` to its successor: for an
+                        // entering edge (neighbour → c) start at the predecessor corner.
+                        let side_corner = if dir == 0 { corner } else { other_corners(corner).1 };
+                        sides.push(ConstraintSide { corner: side_corner, constraint });
+                    }
+                }
+            }
+            start = end;
+        }
+        let disk = !locked && single_fan(&mut link);
+        kinds[c as usize] = match (disk, constraint_count) {
+            (true, 0) => Kind::Interior,
+            (true, 2) => Kind::Line,
+            _ => Kind::Locked,
+        };
+    }
+    (kinds, sides)
+}
+
+/// Whether the link edges (a → b) of a fan form one cycle or one path (a disk or half-disk).
+fn single_fan(link: &mut [(u32, u32)]) -> bool {
+    if link.is_empty() {
+        return false;
+    }
+    link.sort_unstable();
+    if link.windows(2).any(|w| w[0].0 == w[1].0) {
+        return false;
+    }
+    let successor = |a: u32| link.binary_search_by_key(&a, |e| e.0).ok().map(|i| link[i].1);
+    // A path starts at a link vertex that no edge enters; a cycle can start anywhere.
+    let mut ends: Vec<u32> = link.iter().map(|e| e.1).collect();
+    ends.sort_unstable();
+    let start = link.iter().map(|e| e.0).find(|a| ends.binary_search(a).is_err()).unwrap_or(link[0].0);
+    let mut at = start;
+    let mut steps = 0;
+    while let Some(b) = successor(at) {
+        steps += 1;
+        at = b;
+        if at == start || steps > link.len() {
+            break;
+        }
+    }
+    steps == link.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kinds_of(positions: &[Vec3], indices: &[u32], materials: &[u32]) -> Vec<Kind> {
+        let classes = position_classes(positions, indices);
+        let lists =
+            CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), classes.count());
+        classify(&classes, &lists, indices, materials).0
+    }
+
+    /// A 3×3 vertex grid (4 quads, 8 triangles), centre vertex 4.
+    fn grid() -> (Vec<Vec3>, Vec<u32>) {
+        let positions = (0..9).map(|i| Vec3::new((i % 3) as f32, (i / 3) as f32, 0.0)).collect();
+        let mut indices = Vec::new();
+        for y in 0..2 {
+            for x in 0..2 {
+                let v = y * 3 + x;
+                indices.extend_from_slice(&[v, v + 1, v + 4, v, v + 4, v + 3]);
+            }
+        }
+        (positions, indices)
+    }
+
+    #[test]
+    fn grid_centre_is_interior_and_rim_is_line() {
+        let (p, i) = grid();
+        let kinds = kinds_of(&p, &i, &[]);
+        assert_eq!(kinds[4], Kind::Interior);
+        for v in [0, 1, 2, 3, 5, 6, 7, 8] {
+            assert_eq!(kinds[v], Kind::Line, "vertex {v}");
+        }
+    }
+
+    #[test]
+    fn material_line_through_the_centre() {
+        let (p, i) = grid();
+        // Left column of quads is material 0, right column material 1: the line x = 1.
+        let materials = [0, 0, 1, 1, 0, 0, 1, 1];
+        let kinds = kinds_of(&p, &i, &materials);
+        assert_eq!(kinds[4], Kind::Line);
+        // Rim vertices where the material line meets the border have three constraint edges.
+        assert_eq!(kinds[1], Kind::Locked);
+        assert_eq!(kinds[7], Kind::Locked);
+        assert_eq!(kinds[3], Kind::Line);
+    }
+
+    #[test]
+    fn bowtie_and_nonmanifold_edges_lock() {
+        // Two triangles touching at vertex 0 only.
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y];
+        let kinds = kinds_of(&p, &[0, 1, 2, 0, 3, 4], &[]);
+        assert_eq!(kinds[0], Kind::Locked);
+        // Three triangles on edge 0-1.
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Y];
+        let kinds = kinds_of(&p, &[0, 1, 2, 1, 0, 3, 0, 1, 4], &[]);
+        assert_eq!(kinds[0], Kind::Locked);
+        assert_eq!(kinds[1], Kind::Locked);
+    }
+
+    #[test]
+    fn duplicated_position_makes_one_class_and_a_seam() {
+        let (mut p, mut i) = grid();
+        // Split the middle row's right half: vertex 9 duplicates 4 for the right column's quads.
+        p.push(p[4]);
+        for (t, tri) in i.chunks_exact_mut(3).enumerate() {
+            if t % 4 >= 2 {
+                for v in tri.iter_mut() {
+                    if *v == 4 {
+                        *v = 9;
+                    }
+                }
+            }
+        }
+        let classes = position_classes(&p, &i);
+        assert_eq!(classes.count(), 9);
+        assert_eq!(classes.class_of[9], classes.class_of[4]);
+        assert_eq!(classes.wedges_of(classes.class_of[4]), &[4, 9]);
+        let kinds = kinds_of(&p, &i, &[]);
+        // Seam runs 1 - 4 - 7: the centre slides along it, its ends are junctions.
+        assert_eq!(kinds[4], Kind::Line);
+        assert_eq!(kinds[1], Kind::Locked);
+    }
+}

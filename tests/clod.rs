@@ -1,0 +1,181 @@
+//! The articulated progressive mesh and its LOD chain on the shared models: invariants at every
+//! level, the ancestor tables, and the back-propagation identity at the simplification pose.
+
+mod common;
+
+use std::collections::HashSet;
+
+use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose};
+use clod_viewer::metrics::bounds_diagonal;
+use clod_viewer::simplify::CollapseMode;
+use clod_viewer::{import, Character};
+
+const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
+
+fn load(name: &str) -> Option<Character> {
+    let bytes = common::model_bytes(name)?;
+    Some(import::from_glb(&bytes).expect("shared models import"))
+}
+
+fn build(character: &Character, options: &ClodOptions) -> Clod {
+    clod::build(character, options, &mut |_| {}).expect("shared models simplify")
+}
+
+/// Indices in range, no degenerate and no duplicate triangle, ancestors valid, errors monotone.
+fn check_chain(name: &str, clod: &Clod) {
+    let pm = &clod.apm.pm;
+    assert!(clod.levels.len() >= 2, "{name}: only {} level(s)", clod.levels.len());
+    for (i, level) in clod.levels.iter().enumerate() {
+        let n = level.vertices.len() as u32;
+        let mut seen = HashSet::new();
+        for t in level.indices.chunks_exact(3) {
+            assert!(t.iter().all(|&v| v < n), "{name} level {i}: index out of range");
+            assert!(
+                t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+                "{name} level {i}: degenerate triangle {t:?}"
+            );
+            let mut key = [t[0], t[1], t[2]];
+            key.sort();
+            assert!(seen.insert(key), "{name} level {i}: duplicate triangle {t:?}");
+        }
+        if let Some(coarser) = clod.levels.get(i + 1) {
+            assert!(
+                coarser.triangle_count() < level.triangle_count(),
+                "{name}: levels {i}, {} not decreasing",
+                i + 1
+            );
+            assert!(coarser.error >= level.error, "{name}: error decreases after level {i}");
+            assert_eq!(
+                level.ancestors.len(),
+                level.vertices.len(),
+                "{name} level {i}: one ancestor per vertex"
+            );
+            for (v, &a) in level.vertices.iter().zip(&level.ancestors) {
+                let a = coarser.vertices.get(a as usize).copied();
+                assert_eq!(
+                    a,
+                    Some(pm.ancestor_at(*v, coarser.collapses)),
+                    "{name} level {i}: wrong ancestor of {v}"
+                );
+            }
+        } else {
+            assert!(level.ancestors.is_empty());
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn default_chain_holds_its_invariants_on_every_shared_model() {
+    for name in MODELS {
+        let Some(character) = load(name) else { continue };
+        let clod = build(&character, &ClodOptions::default());
+        check_chain(name, &clod);
+        // Level 0 of the default chain is the input mesh itself.
+        let full = &clod.levels[0];
+        assert_eq!(full.triangle_count(), character.mesh.triangle_count(), "{name}");
+        let as_input = |t: &[u32]| {
+            let mut k = [t[0], t[1], t[2]];
+            let min = (0..3).min_by_key(|&r| k[r]).unwrap();
+            k.rotate_left(min);
+            k
+        };
+        let mut ours: Vec<[u32; 3]> = full
+            .indices
+            .chunks_exact(3)
+            .map(|t| as_input(&t.iter().map(|&v| full.vertices[v as usize]).collect::<Vec<_>>()))
+            .collect();
+        let mut input: Vec<[u32; 3]> = character.mesh.indices.chunks_exact(3).map(as_input).collect();
+        ours.sort();
+        input.sort();
+        assert_eq!(ours, input, "{name}: level 0 is not the input (winding included)");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn skinning_each_level_at_the_simplification_pose_reproduces_its_static_positions() {
+    for name in MODELS {
+        let Some(character) = load(name) else { continue };
+        let clip = &character.clips[0];
+        let time = clip.duration() * 0.5;
+        let pose = SimplificationPose::ClipFrame { clip: clip.name.clone(), time };
+        let clod = build(&character, &ClodOptions { pose, ..ClodOptions::default() });
+        check_chain(name, &clod);
+        let skin = character.skin_matrices(&character.pose_at(clip, time));
+        let diagonal = bounds_diagonal(&character.skinned_positions(&character.pose_at(clip, time)));
+        for i in 0..clod.levels.len() {
+            let skinned = clod.level_skinned_positions(i, &skin);
+            let fixed = clod.level_pose_positions(i);
+            let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-5 * diagonal, "{name} level {i}: skinned differs from static by {worst}");
+        }
+        assert_eq!(clod.apm.singular_back_propagations, 0, "{name}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn requested_levels_are_met_and_half_edge_levels_reuse_input_positions() {
+    let Some(character) = load("CesiumMan.glb") else { return };
+    let n = character.mesh.triangle_count();
+    let wanted = vec![n / 2, n / 4, n / 10, n / 20];
+    let options = ClodOptions {
+        level_triangles: Some(wanted.clone()),
+        mode: CollapseMode::HalfEdge,
+        ..Default::default()
+    };
+    let clod = build(&character, &options);
+    check_chain("CesiumMan half-edge", &clod);
+    let got: Vec<usize> = clod.levels.iter().map(|l| l.triangle_count()).collect();
+    assert_eq!(clod.levels.len(), wanted.len(), "asked {wanted:?}, got {got:?}, stop {:?}", clod.apm.pm.stop);
+    let inputs: HashSet<[u32; 3]> =
+        character.mesh.positions.iter().map(|p| p.to_array().map(f32::to_bits)).collect();
+    for (level, &want) in clod.levels.iter().zip(&wanted) {
+        assert!(
+            level.triangle_count() <= want && level.triangle_count() + 8 >= want,
+            "{} for {want}",
+            level.triangle_count()
+        );
+        for &v in &level.vertices {
+            let p = clod.apm.bind_positions[v as usize].to_array().map(f32::to_bits);
+            assert!(inputs.contains(&p), "half-edge level has a new position");
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn every_level_animates_with_every_clip() {
+    let Some(character) = load("Fox.glb") else { return };
+    let clod = build(&character, &ClodOptions::default());
+    for clip in &character.clips {
+        let skin = character.skin_matrices(&character.pose_at(clip, clip.duration() * 0.3));
+        for i in 0..clod.levels.len() {
+            assert!(
+                clod.level_skinned_positions(i, &skin).iter().all(|p| p.is_finite()),
+                "{} level {i}",
+                clip.name
+            );
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn bad_options_are_errors_that_say_what_is_wrong() {
+    let Some(character) = load("RiggedSimple.glb") else { return };
+    let bad_levels = ClodOptions { level_triangles: Some(vec![100, 200]), ..Default::default() };
+    let err = clod::build(&character, &bad_levels, &mut |_| {}).unwrap_err();
+    assert_eq!(err, ClodError::BadLevels(vec![100, 200]));
+    assert!(err.to_string().contains("decreasing"));
+    let bad_clip = ClodOptions {
+        pose: SimplificationPose::ClipFrame { clip: "Dance".into(), time: 0.0 },
+        ..Default::default()
+    };
+    let err = clod::build(&character, &bad_clip, &mut |_| {}).unwrap_err().to_string();
+    assert!(err.contains("Dance") && err.contains("Anim_0_Armature"), "{err}");
+    let mut progress = Vec::new();
+    clod::build(&character, &ClodOptions::default(), &mut |f| progress.push(f)).unwrap();
+    assert!(progress.windows(2).all(|w| w[0] <= w[1]) && progress.last() == Some(&1.0), "{progress:?}");
+}
