@@ -10,6 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::character::Character;
+use crate::clod::Clod;
 use crate::mesh::PrimitiveRange;
 
 /// One vertex's attributes as the shader reads them (`LevelVertex` in `skin.wgsl`).
@@ -99,6 +100,69 @@ impl LodSource {
         let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0);
         Self { levels: vec![level] }
     }
+
+    /// The discrete levels of an articulated progressive mesh built from `character`. Each
+    /// vertex's ancestor is its vertex in the next coarser level (itself in the coarsest).
+    ///
+    /// A level triangle takes the material of the input vertex its first corner descends from
+    /// (the simplifier keeps material borders, so all three corners agree).
+    pub fn from_clod(character: &Character, clod: &Clod) -> Self {
+        let apm = &clod.apm;
+        let attributes = Attributes {
+            positions: &apm.bind_positions,
+            normals: &apm.bind_normals,
+            uvs: apm.uvs.as_deref(),
+            colors: apm.colors.as_deref(),
+            joints: &apm.joints,
+            weights: &apm.weights,
+        };
+        let input_material = vertex_materials(character);
+        let material_of = |id: u32| {
+            let mut v = id as usize;
+            while v >= apm.pm.input_vertex_count {
+                v = apm.pm.survivor_source[v] as usize;
+            }
+            input_material.get(v).copied().flatten()
+        };
+        let levels = clod
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(i, level)| {
+                let ancestor_ids: Vec<u32> = match clod.levels.get(i + 1) {
+                    Some(coarse) => level.ancestors.iter().map(|&a| coarse.vertices[a as usize]).collect(),
+                    None => level.vertices.clone(),
+                };
+                let materials: Vec<Option<usize>> =
+                    level.indices.chunks_exact(3).map(|t| material_of(level.vertices[t[0] as usize])).collect();
+                build_level(&attributes, &level.vertices, &ancestor_ids, &level.indices, &materials, level.error)
+            })
+            .collect();
+        Self { levels }
+    }
+
+    /// Geometric error of every level, finest first.
+    pub fn errors(&self) -> Vec<f32> {
+        self.levels.iter().map(|l| l.error).collect()
+    }
+}
+
+/// Material of every input vertex: that of the first primitive whose triangles use it.
+fn vertex_materials(character: &Character) -> Vec<Option<usize>> {
+    let mesh = &character.mesh;
+    let mut out = vec![None; mesh.vertex_count()];
+    let mut seen = vec![false; mesh.vertex_count()];
+    for range in &mesh.primitives {
+        let start = range.first_index as usize;
+        let end = (start + range.index_count as usize).min(mesh.indices.len());
+        for &v in &mesh.indices[start.min(end)..end] {
+            if !seen[v as usize] {
+                seen[v as usize] = true;
+                out[v as usize] = range.material;
+            }
+        }
+    }
+    out
 }
 
 /// Material of every triangle from a mesh's primitive ranges (`None`: glTF's default material).
