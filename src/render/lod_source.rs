@@ -11,6 +11,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::character::Character;
 use crate::clod::Clod;
+use crate::progressive::PmCursor;
 use crate::mesh::PrimitiveRange;
 
 /// One vertex's attributes as the shader reads them (`LevelVertex` in `skin.wgsl`).
@@ -116,14 +117,7 @@ impl LodSource {
             joints: &apm.joints,
             weights: &apm.weights,
         };
-        let input_material = vertex_materials(character);
-        let material_of = |id: u32| {
-            let mut v = id as usize;
-            while v >= apm.pm.input_vertex_count {
-                v = apm.pm.survivor_source[v] as usize;
-            }
-            input_material.get(v).copied().flatten()
-        };
+        let materials_of = clod_materials(character, clod);
         let levels = clod
             .levels
             .iter()
@@ -133,17 +127,52 @@ impl LodSource {
                     Some(coarse) => level.ancestors.iter().map(|&a| coarse.vertices[a as usize]).collect(),
                     None => level.vertices.clone(),
                 };
-                let materials: Vec<Option<usize>> =
-                    level.indices.chunks_exact(3).map(|t| material_of(level.vertices[t[0] as usize])).collect();
+                let materials = materials_of(&level.vertices, &level.indices);
                 build_level(&attributes, &level.vertices, &ancestor_ids, &level.indices, &materials, level.error)
             })
             .collect();
         Self { levels }
     }
 
+    /// The progressive mesh at a cursor's position as one level (its own ancestor): the
+    /// continuous LOD slider's mesh.
+    pub fn from_cursor(character: &Character, clod: &Clod, cursor: &PmCursor) -> LevelData {
+        let apm = &clod.apm;
+        let attributes = Attributes {
+            positions: &apm.bind_positions,
+            normals: &apm.bind_normals,
+            uvs: apm.uvs.as_deref(),
+            colors: apm.colors.as_deref(),
+            joints: &apm.joints,
+            weights: &apm.weights,
+        };
+        let materials = clod_materials(character, clod)(cursor.vertices(), cursor.indices());
+        let error = apm.pm.distance_after(cursor.level());
+        build_level(&attributes, cursor.vertices(), cursor.vertices(), cursor.indices(), &materials, error)
+    }
+
     /// Geometric error of every level, finest first.
     pub fn errors(&self) -> Vec<f32> {
         self.levels.iter().map(|l| l.error).collect()
+    }
+}
+
+/// Per-triangle materials of a mesh over progressive-mesh vertex ids: a triangle takes the
+/// material of the input vertex its first corner descends from.
+fn clod_materials<'a>(character: &Character, clod: &'a Clod) -> impl Fn(&[u32], &[u32]) -> Vec<Option<usize>> + 'a {
+    let input_material = vertex_materials(character);
+    let pm = &clod.apm.pm;
+    move |vertices, indices| {
+        indices
+            .chunks_exact(3)
+            .map(|t| {
+                let mut v = vertices[t[0] as usize] as usize;
+                while v >= pm.input_vertex_count {
+                    v = pm.survivor_source[v] as usize;
+                }
+                input_material.get(v).copied().flatten()
+            })
+            .collect()
     }
 }
 
