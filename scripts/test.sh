@@ -31,6 +31,9 @@ step "native tests"
 cargo test --workspace 2>&1 | tee "$logs/native.log"
 node scripts/count-tests.mjs native "$logs/native.log" "$summary"
 
+step "the built-in character: assets/character.glb equals what its generator makes"
+cargo run --quiet -p make-character -- --check assets/character.glb
+
 step "the same tests under node (wasm-pack test --node)"
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
