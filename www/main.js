@@ -116,6 +116,7 @@ async function start(name, bytes) {
   viewer.frame(performance.now());
   await viewer.finish();
   const state = updateLabels();
+  if (state.errors.length) throw new Error(state.errors.join('\n'));
   status.textContent = `${name}: ${state.triangles.toLocaleString()} triangles, ${state.joints} joints, ` +
     `drawn with ${state.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}.`;
   html.dataset.state = 'ready';

@@ -452,6 +452,8 @@ impl Renderer {
                     }
                 }
             }
+            // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
+            pass.set_scissor_rect(0, 0, fw, fh);
         }
         encoder.finish()
     }
@@ -466,23 +468,40 @@ fn push_error(sink: &Mutex<Vec<String>>, message: String) {
     }
 }
 
-/// Maps `buffer` for reading and waits for it (a promise on the web; `poll` drives WebGL2).
+/// Maps `buffer` for reading and waits for it. WebGPU resolves the map from the browser's event
+/// loop; the GL backend only when polled after its fence has signalled, which WebGL cannot block
+/// on — so this polls, yielding to the event loop between tries, for at most [`MAP_TIMEOUT_MS`].
 async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), RenderError> {
     let result: std::rc::Rc<std::cell::Cell<Option<bool>>> = Default::default();
-    let promise = js_sys::Promise::new(&mut |resolve, _reject| {
-        let result = std::rc::Rc::clone(&result);
-        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            result.set(Some(r.is_ok()));
-            let _ = resolve.call0(&wasm_bindgen::JsValue::NULL);
-        });
-    });
-    // WebGPU resolves by itself; the GL backend resolves maps during poll.
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
-    wasm_bindgen_futures::JsFuture::from(promise).await.map_err(|e| RenderError::Readback(format!("{e:?}")))?;
-    match result.get() {
-        Some(true) => Ok(()),
-        _ => Err(RenderError::Readback("the buffer could not be mapped".into())),
+    let done = std::rc::Rc::clone(&result);
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| done.set(Some(r.is_ok())));
+    let started = js_sys::Date::now();
+    loop {
+        let _ = device.poll(wgpu::PollType::Poll);
+        match result.get() {
+            Some(true) => return Ok(()),
+            Some(false) => return Err(RenderError::Readback("the buffer could not be mapped".into())),
+            None if js_sys::Date::now() - started > MAP_TIMEOUT_MS => {
+                return Err(RenderError::Readback(format!("the GPU did not finish within {MAP_TIMEOUT_MS} ms")));
+            }
+            None => yield_to_event_loop().await,
+        }
     }
+}
+
+/// Longest wait for a readback: SwiftShader draws a large frame in well under a second.
+const MAP_TIMEOUT_MS: f64 = 20_000.0;
+
+/// Resolves on the next turn of the event loop (a zero-delay timeout).
+async fn yield_to_event_loop() {
+    let promise = js_sys::Promise::new(&mut |resolve, _reject| {
+        let set_timeout = web_sys::window().map(|w| w.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, 0));
+        if !matches!(set_timeout, Some(Ok(_))) {
+            // No window (a worker): resolve at once; the loop's deadline still bounds the wait.
+            let _ = resolve.call0(&wasm_bindgen::JsValue::NULL);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
 }
 
 /// Vertex and index buffers of a level; materials outside the table use the default material.

@@ -93,8 +93,9 @@ struct Varyings {
 };
 
 fn blend_matrix(j: vec4<u32>, w: vec4<f32>) -> mat4x4<f32> {
-    // Out-of-range joints (a corrupt file) read joint 0 rather than past the array.
-    let i = select(vec4<u32>(0u), j, j < vec4<u32>(MAX_JOINTS));
+    // Out-of-range joints (the importer rejects them; defence in depth) read the last slot rather
+    // than past the array. min, not select: GLSL ES 3.00 has no mix() over uvec4.
+    let i = min(j, vec4<u32>(MAX_JOINTS - 1u));
     return joints.model_from_bind[i.x] * w.x + joints.model_from_bind[i.y] * w.y
         + joints.model_from_bind[i.z] * w.z + joints.model_from_bind[i.w] * w.w;
 }

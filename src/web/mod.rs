@@ -169,8 +169,9 @@ impl Viewer {
     }
 
     /// What the views show, for the page: `{ backend, adapter, levels: [{triangles, error}],
-    /// selected, coordinate, distance, stacked, views: [{method, level, triangles, t, rect}],
-    /// frames, errors, warnings, ... }` (see `Inner::state_json`).
+    /// switch (each level's switch distance, × framing), selected, coordinate, distance (× framing),
+    /// stacked, views: [{method, level, triangles, t, rect}], frames, errors, warnings, ... }`
+    /// (see `Inner::state_json`).
     pub fn state(&self) -> Result<JsValue, JsError> {
         let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
         let errors = inner.renderer.take_errors();
@@ -316,10 +317,16 @@ impl Inner {
             .collect();
         let list = |v: &[String]| v.iter().map(|e| json_str(e)).collect::<Vec<_>>().join(",");
         let (w, h) = self.renderer.size();
+        let view_height = self.layout.views[0].height.max(1) as f32;
+        let switch: Vec<String> =
+            schedule::switch_distances(&self.lod.errors(), view_height, FOVY, s.tolerance_px)
+                .iter()
+                .map(|d| num(d / self.framing))
+                .collect();
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"width\":{},\"height\":{},",
-                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"buildMs\":{},",
+                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},",
                 "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
@@ -335,6 +342,7 @@ impl Inner {
             list(&self.character.clips.iter().map(|c| c.name.clone()).collect::<Vec<_>>()),
             s.clip.map_or("null".to_string(), |c| c.to_string()),
             levels.join(","),
+            switch.join(","),
             num(self.build_ms as f32),
             self.schedule.selected,
             num(self.schedule.coordinate),
