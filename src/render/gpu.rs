@@ -94,8 +94,15 @@ pub struct Renderer {
     /// Format the pipelines render to (the surface's, or its sRGB view).
     color_format: wgpu::TextureFormat,
     sample_count: u32,
-    depth: wgpu::TextureView,
-    msaa: Option<wgpu::TextureView>,
+    /// Full-canvas depth and MSAA targets, when views draw straight into the canvas.
+    direct: Option<(wgpu::TextureView, Option<wgpu::TextureView>)>,
+    /// View-size targets, when each view draws at the origin of its own texture and is copied
+    /// into place (see [`Renderer::composed`]).
+    view_targets: std::cell::RefCell<Option<ViewTargets>>,
+    /// Whether views are drawn separately and copied into the frame. Drawing every view at the
+    /// same origin makes equal views bit-identical (the viewport transform's rounding depends on
+    /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
+    composed: bool,
     camera_buffer: wgpu::Buffer,
     joints_buffer: wgpu::Buffer,
     draw_buffer: wgpu::Buffer,
@@ -200,7 +207,8 @@ impl Renderer {
         let default_slot = materials.len() - 1;
         let levels = lod.levels.iter().map(|level| upload_level(&device, level, default_slot)).collect();
         let pipelines = create_pipelines(&device, &layouts, color_format, sample_count);
-        let (depth, msaa) = targets(&device, color_format, sample_count, width, height);
+        let composed = config.usage.contains(wgpu::TextureUsages::COPY_DST);
+        let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
         let info = adapter.get_info();
         Ok(Self {
             device,
@@ -209,8 +217,9 @@ impl Renderer {
             config,
             color_format,
             sample_count,
-            depth,
-            msaa,
+            direct,
+            view_targets: Default::default(),
+            composed,
             camera_buffer,
             joints_buffer,
             draw_buffer,
@@ -234,6 +243,11 @@ impl Renderer {
     /// MSAA sample count in use (4, or 1 where the format cannot multisample).
     pub fn sample_count(&self) -> u32 {
         self.sample_count
+    }
+
+    /// Whether views are drawn apart and copied into the frame (see the field's docs).
+    pub fn composed(&self) -> bool {
+        self.composed
     }
 
     /// Name of the colour format the views render in.
@@ -267,7 +281,9 @@ impl Renderer {
         self.config.width = width;
         self.config.height = height;
         self.surface.configure(&self.device, &self.config);
-        (self.depth, self.msaa) = targets(&self.device, self.color_format, self.sample_count, width, height);
+        if !self.composed {
+            self.direct = Some(targets(&self.device, self.color_format, self.sample_count, width, height));
+        }
     }
 
     /// Draws a frame to the canvas.
@@ -285,11 +301,7 @@ impl Renderer {
                 return;
             }
         };
-        let view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.color_format),
-            ..Default::default()
-        });
-        let commands = self.encode(frame, &view);
+        let commands = self.encode(frame, &texture.texture);
         self.queue.submit([commands]);
         self.queue.present(texture);
     }
@@ -307,10 +319,10 @@ impl Renderer {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: self.color_format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let mut commands = vec![self.encode(frame, &texture.create_view(&Default::default()))];
+        let mut commands = vec![self.encode(frame, &texture)];
         // Rows of a texture-to-buffer copy are padded to 256 bytes (WebGPU's rule).
         let row = 4 * width as u64;
         let padded = row.div_ceil(256) * 256;
@@ -369,7 +381,7 @@ impl Renderer {
         map_read(&self.device, &fence).await
     }
 
-    fn encode(&self, frame: &FrameInput, target: &wgpu::TextureView) -> wgpu::CommandBuffer {
+    fn encode(&self, frame: &FrameInput, target: &wgpu::Texture) -> wgpu::CommandBuffer {
         let mut joints = JointsRaw::zeroed();
         for (slot, m) in joints.model_from_bind.iter_mut().zip(frame.skin) {
             *slot = m.to_cols_array_2d();
@@ -378,87 +390,166 @@ impl Renderer {
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
         self.queue.write_buffer(&self.joints_buffer, 0, bytemuck::bytes_of(&joints));
-        let mut slots = Vec::new();
-        for (rect, plan) in &frame.views {
-            for draw in &plan.draws {
-                let raw = DrawRaw {
-                    morph_t: draw.morph_t.unwrap_or(0.0),
-                    opacity: draw.opacity,
-                    dither_mode: draw.dither_mode,
-                    dither_threshold: draw.dither_threshold,
-                    viewport_origin: [rect.x as f32, rect.y as f32],
-                    ..DrawRaw::default()
-                };
-                let offset = (slots.len() as u64 % DRAW_SLOTS) * DRAW_STRIDE;
-                self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
-                slots.push(offset as u32);
-            }
-        }
-
+        let target_view = target.create_view(&Default::default());
+        let (fw, fh) = (target.width(), target.height());
+        let visible = |r: &Rect| r.width > 0 && r.height > 0 && r.x + r.width <= fw && r.y + r.height <= fh;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        {
-            let (view, resolve_target) = match &self.msaa {
-                Some(msaa) => (msaa, Some(target)),
-                None => (target, None),
+        let mut slot = 0u64;
+        if self.composed {
+            // The background (gaps between views), then each view drawn at its texture's origin
+            // and copied into place.
+            drop(begin_pass(&mut encoder, &target_view, None, None, background_for(target.format())));
+            let size = frame.views[0].0;
+            let mut cache = self.view_targets.borrow_mut();
+            if cache.as_ref().is_none_or(|t| (t.width, t.height) != (size.width, size.height)) {
+                *cache = (size.width > 0 && size.height > 0).then(|| {
+                    ViewTargets::new(&self.device, self.color_format, self.sample_count, size)
+                });
+            }
+            let Some(targets) = cache.as_ref() else { return encoder.finish() };
+            for (i, (rect, plan)) in frame.views.iter().enumerate() {
+                if !visible(rect) || (rect.width, rect.height) != (targets.width, targets.height) {
+                    continue;
+                }
+                let resolve = &targets.views[i];
+                let (color, resolve_target) = match &targets.msaa {
+                    Some(msaa) => (msaa, Some(resolve)),
+                    None => (resolve, None),
+                };
+                {
+                    let mut pass = begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
+                    self.draw_view(&mut pass, plan, [0.0; 2], &mut slot);
+                }
+                encoder.copy_texture_to_texture(
+                    targets.textures[i].as_image_copy(),
+                    wgpu::TexelCopyTextureInfo {
+                        texture: target,
+                        mip_level: 0,
+                        origin: wgpu::Origin3d { x: rect.x, y: rect.y, z: 0 },
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::Extent3d { width: rect.width, height: rect.height, depth_or_array_layers: 1 },
+                );
+            }
+        } else if let Some((depth, msaa)) = &self.direct {
+            let (color, resolve_target) = match msaa {
+                Some(msaa) => (msaa, Some(&target_view)),
+                None => (&target_view, None),
             };
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("views"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(BACKGROUND), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.frame_group, &[]);
-            let (fw, fh) = (self.config.width, self.config.height);
-            let mut slot = slots.iter();
+            let mut pass = begin_pass(&mut encoder, color, resolve_target, Some(depth), background_for(self.color_format));
             for (rect, plan) in &frame.views {
-                let visible = rect.width > 0 && rect.height > 0 && rect.x + rect.width <= fw && rect.y + rect.height <= fh;
-                if visible {
-                    pass.set_viewport(rect.x as f32, rect.y as f32, rect.width as f32, rect.height as f32, 0.0, 1.0);
-                    pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
+                if !visible(rect) {
+                    continue;
                 }
-                for draw in &plan.draws {
-                    let offset = *slot.next().expect("one slot per draw");
-                    let level = match self.levels.get(draw.level) {
-                        Some(level) => level,
-                        None if draw.level == self.levels.len() => match &self.continuous {
-                            Some(level) => level,
-                            None => continue,
-                        },
-                        None => continue,
-                    };
-                    if !visible {
-                        continue;
-                    }
-                    pass.set_bind_group(2, &self.draw_group, &[offset]);
-                    pass.set_vertex_buffer(0, level.vertices.slice(..));
-                    pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
-                    for &(first, count, material) in &level.ranges {
-                        let m = &self.materials[material];
-                        let key = (draw.pass, draw.morph_t.is_some(), !m.double_sided);
-                        pass.set_pipeline(&self.pipelines[&key]);
-                        pass.set_bind_group(1, &m.bind_group, &[]);
-                        pass.draw_indexed(first..first + count, 0, 0..1);
-                    }
-                }
+                pass.set_viewport(rect.x as f32, rect.y as f32, rect.width as f32, rect.height as f32, 0.0, 1.0);
+                pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
+                self.draw_view(&mut pass, plan, [rect.x as f32, rect.y as f32], &mut slot);
             }
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
         }
         encoder.finish()
     }
+
+    /// Records one view's draws; `slot` counts the draw-uniform slots used so far this frame.
+    fn draw_view(&self, pass: &mut wgpu::RenderPass, plan: &ViewPlan, origin: [f32; 2], slot: &mut u64) {
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        for draw in &plan.draws {
+            let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
+            *slot += 1;
+            let raw = DrawRaw {
+                morph_t: draw.morph_t.unwrap_or(0.0),
+                opacity: draw.opacity,
+                dither_mode: draw.dither_mode,
+                dither_threshold: draw.dither_threshold,
+                viewport_origin: origin,
+                ..DrawRaw::default()
+            };
+            self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
+            let level = match self.levels.get(draw.level) {
+                Some(level) => level,
+                None if draw.level == self.levels.len() => match &self.continuous {
+                    Some(level) => level,
+                    None => continue,
+                },
+                None => continue,
+            };
+            pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
+            pass.set_vertex_buffer(0, level.vertices.slice(..));
+            pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for &(first, count, material) in &level.ranges {
+                let m = &self.materials[material];
+                let key = (draw.pass, draw.morph_t.is_some(), !m.double_sided);
+                pass.set_pipeline(&self.pipelines[&key]);
+                pass.set_bind_group(1, &m.bind_group, &[]);
+                pass.draw_indexed(first..first + count, 0, 0..1);
+            }
+        }
+    }
 }
 
+/// A render pass clearing colour to `background` and depth to 1.
+fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    color: &wgpu::TextureView,
+    resolve_target: Option<&wgpu::TextureView>,
+    depth: Option<&wgpu::TextureView>,
+    background: wgpu::Color,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("view"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: color,
+            depth_slice: None,
+            resolve_target,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(background), store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// One colour texture per view (the views' sRGB format, copied into the canvas), and the MSAA and depth
+/// targets the three views share, all of the view size.
+struct ViewTargets {
+    width: u32,
+    height: u32,
+    textures: [wgpu::Texture; 3],
+    views: [wgpu::TextureView; 3],
+    msaa: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+}
+
+impl ViewTargets {
+    fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        sample_count: u32,
+        size: Rect,
+    ) -> Self {
+        let textures = [0, 1, 2].map(|_| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("view colour"),
+                size: wgpu::Extent3d { width: size.width, height: size.height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: color_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        });
+        let views = [0, 1, 2].map(|i| textures[i].create_view(&Default::default()));
+        let (depth, msaa) = targets(device, color_format, sample_count, size.width, size.height);
+        Self { width: size.width, height: size.height, textures, views, msaa, depth }
+    }
+}
 
 fn push_error(sink: &Mutex<Vec<String>>, message: String) {
     let mut errors = sink.lock().unwrap_or_else(|p| p.into_inner());
@@ -535,26 +626,31 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer
     })
 }
 
-/// Surface configuration: an sRGB format when the surface offers one, else (WebGPU canvases) the
-/// plain format with an sRGB view, else the plain format and encoding in the shader. Returns the
-/// configuration and the format pipelines render in.
+/// Surface configuration and the format the views render in (sRGB where possible, so blending and
+/// MSAA resolve happen in linear light):
+/// - the surface offers an sRGB format: use it;
+/// - it accepts copies (WebGPU canvases): views render into sRGB textures whose bytes are copied
+///   into the plain-format canvas (formats that differ only in sRGB-ness are copy-compatible);
+/// - otherwise the plain format, and the shader encodes sRGB itself.
 fn surface_config(
     caps: &wgpu::SurfaceCapabilities,
     choice: BackendChoice,
     width: u32,
     height: u32,
 ) -> Option<(wgpu::SurfaceConfiguration, wgpu::TextureFormat)> {
-    let srgb = caps.formats.iter().copied().find(|f| f.is_srgb());
     let first = *caps.formats.first()?;
-    let (format, color_format, view_formats) = match srgb {
-        Some(f) => (f, f, vec![]),
-        None if choice == BackendChoice::WebGpu && first.add_srgb_suffix() != first => {
-            (first, first.add_srgb_suffix(), vec![first.add_srgb_suffix()])
-        }
-        None => (first, first, vec![]),
+    let srgb = caps.formats.iter().copied().find(|f| f.is_srgb());
+    // WebGPU canvases take any usage (wgpu reports only RENDER_ATTACHMENT for them).
+    let copies = caps.usages.contains(wgpu::TextureUsages::COPY_DST) || choice == BackendChoice::WebGpu;
+    let (format, color_format) = match srgb {
+        Some(f) => (f, f),
+        None if copies => (first, first.add_srgb_suffix()),
+        None => (first, first),
     };
+    // Views are copied into the canvas where it accepts copies (see `Renderer::composed`).
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
     let config = wgpu::SurfaceConfiguration {
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        usage,
         format,
         color_space: Default::default(),
         width,
@@ -562,9 +658,19 @@ fn surface_config(
         present_mode: wgpu::PresentMode::Fifo,
         desired_maximum_frame_latency: 2,
         alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
-        view_formats,
+        view_formats: vec![],
     };
     Some((config, color_format))
+}
+
+/// The background in a target's own encoding: linear for sRGB formats (the hardware encodes),
+/// encoded by hand for plain ones.
+fn background_for(format: wgpu::TextureFormat) -> wgpu::Color {
+    if format.is_srgb() {
+        return BACKGROUND;
+    }
+    let encode = |c: f64| if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    wgpu::Color { r: encode(BACKGROUND.r), g: encode(BACKGROUND.g), b: encode(BACKGROUND.b), a: 1.0 }
 }
 
 fn targets(

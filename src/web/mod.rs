@@ -325,7 +325,7 @@ impl Inner {
                 .collect();
         format!(
             concat!(
-                "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"width\":{},\"height\":{},",
+                "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},",
                 "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
@@ -335,6 +335,7 @@ impl Inner {
             json_str(&self.renderer.adapter_name),
             json_str(&self.renderer.color_format_name()),
             self.renderer.sample_count(),
+            self.renderer.composed(),
             w,
             h,
             self.character.mesh.triangle_count(),

@@ -16,7 +16,7 @@ export async function launch() {
   return chromium.launch({ executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', args: ARGS });
 }
 
-/// Opens the page in test mode and waits until it is ready (or failed). `query` adds parameters.
+// Opens the page in test mode and waits until it is ready (or failed). `query` adds parameters.
 export async function openPage(browser, query = {}, viewport = { width: 1240, height: 700 }) {
   const page = await browser.newPage({ viewport, deviceScaleFactor: 1 });
   const logs = [];
@@ -37,12 +37,12 @@ export async function openPage(browser, query = {}, viewport = { width: 1240, he
   return page;
 }
 
-/// Sets the viewer state, draws one frame at `nowMs`, and returns the viewer's state.
+// Sets the viewer state, draws one frame at `nowMs`, and returns the viewer's state.
 export function frame(page, nowMs, state = {}) {
   return page.evaluate(([s, t]) => { window.__clod.setState(s); return window.__clod.renderFrame(t); }, [state, nowMs]);
 }
 
-/// The current frame read back: `{ width, height, data: Uint8Array }` (RGBA, top row first).
+// The current frame read back: `{ width, height, data: Uint8Array }` (RGBA, top row first).
 export async function readPixels(page) {
   const { width, height, data } = await page.evaluate(async () => {
     const p = await window.__clod.readPixels();
@@ -51,7 +51,7 @@ export async function readPixels(page) {
   return { width, height, data: Uint8Array.from(data) };
 }
 
-/// The RGB pixels of one view rectangle `[x, y, w, h]`, as a flat array (alpha dropped).
+// The RGB pixels of one view rectangle `[x, y, w, h]`, as a flat array (alpha dropped).
 export function crop(pixels, [x, y, w, h]) {
   const out = new Uint8Array(w * h * 3);
   for (let row = 0; row < h; row++) {
@@ -66,16 +66,16 @@ export function crop(pixels, [x, y, w, h]) {
   return out;
 }
 
-/// Sum of absolute channel differences of two equal-size crops, divided by the pixel count:
-/// the mean change per pixel (0..765).
+// Sum of absolute channel differences of two equal-size crops, divided by the pixel count:
+// the mean change per pixel (0..765).
 export function meanAbsDiff(a, b) {
   let sum = 0;
   for (let i = 0; i < a.length; i++) sum += Math.abs(a[i] - b[i]);
   return sum / (a.length / 3);
 }
 
-/// Fraction of pixels of a crop that differ from its corner pixel (the background) by more than
-/// `threshold` in some channel.
+// Fraction of pixels of a crop that differ from its corner pixel (the background) by more than
+// `threshold` in some channel.
 export function foregroundFraction(rgb, threshold = 24) {
   const [r, g, b] = [rgb[0], rgb[1], rgb[2]];
   let n = 0;
@@ -85,7 +85,7 @@ export function foregroundFraction(rgb, threshold = 24) {
   return n / (rgb.length / 3);
 }
 
-/// Writes RGBA pixels as a PNG (no dependency: stored zlib blocks are valid deflate).
+// Writes RGBA pixels as a PNG (no dependency: stored zlib blocks are valid deflate).
 export async function savePng(path, { width, height, data }) {
   const { writeFileSync } = await import('node:fs');
   const { deflateSync, crc32 } = await import('node:zlib');
@@ -106,4 +106,36 @@ export async function savePng(path, { width, height, data }) {
   writeFileSync(path, Buffer.concat([
     Buffer.from([137, 80, 78, 71, 13, 10, 26, 10]), chunk('IHDR', ihdr), chunk('IDAT', deflateSync(raw)), chunk('IEND', Buffer.alloc(0)),
   ]));
+}
+
+// Frame clock for deterministic runs: every call to `tick` advances `dtMs`.
+export function clock(startMs = 1000) {
+  let now = startMs;
+  return { tick: (dtMs) => (now += dtMs), get now() { return now; } };
+}
+
+// Puts the schedule mid-transition from level `k - 1` to level `k` with blend `t` (time-driven),
+// the animation paused at `time`: pops to `k - 1` just before the switch distance, moves just
+// past it, then steps 0.1 s frames with `duration` = 1 s per level until `t` is reached.
+// Returns the last state. `switchScale` places the switch at that many framing distances.
+export async function midTransition(page, c, { k, t, methods, variant = 'opaque-first', switchAt = 2.5, time = 0.4 }) {
+  let state = await frame(page, c.now, { paused: true, time, methods, variant, transition: 'time', duration: 0, hysteresis: 0.1, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
+  const tolerance = tuneTolerance(state, k, switchAt);
+  state = await frame(page, c.tick(100), { tolerance, distance: switchAt * 1.1 * 0.97 });
+  if (state.selected !== k - 1) throw new Error(`expected level ${k - 1} before the switch, got ${state.selected}`);
+  state = await frame(page, c.tick(100), { duration: 1, distance: switchAt * 1.1 * 1.03 });
+  for (let i = 1; i < Math.round(t * 10); i++) state = await frame(page, c.tick(100));
+  return state;
+}
+
+// A tolerance so small that every view starts at the finest level (the schedule's hysteresis
+// would otherwise keep whatever level an earlier frame chose).
+export const FINEST_TOLERANCE = 0.01;
+
+// The tolerance (pixels) that puts level `k`'s switch distance at `switchAt` framing distances,
+// from a state drawn with FINEST_TOLERANCE: switch distances scale as 1 / tolerance.
+export function tuneTolerance(state, k, switchAt) {
+  const current = state.switch[k];
+  if (!(current > 0)) throw new Error(`level ${k} has no switch distance: ${JSON.stringify(state.switch)}`);
+  return FINEST_TOLERANCE * current / switchAt;
 }
