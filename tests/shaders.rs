@@ -7,7 +7,8 @@ use naga::back::glsl;
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
 fn parse_and_validate(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
-    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    let module =
+        naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
     // WebGL2 and baseline WebGPU: no optional capabilities.
     let info = Validator::new(ValidationFlags::all(), Capabilities::empty())
         .validate(&module)
@@ -39,9 +40,15 @@ fn skin_shader_translates_to_webgl2_glsl() {
             multiview: None,
         };
         let mut out = String::new();
-        let mut writer =
-            glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, naga::proc::BoundsCheckPolicies::default())
-                .unwrap_or_else(|e| panic!("{}: {e}", entry.name));
+        let mut writer = glsl::Writer::new(
+            &mut out,
+            &module,
+            &info,
+            &options,
+            &pipeline,
+            naga::proc::BoundsCheckPolicies::default(),
+        )
+        .unwrap_or_else(|e| panic!("{}: {e}", entry.name));
         writer.write().unwrap_or_else(|e| panic!("{}: {e}", entry.name));
         assert!(out.starts_with("#version 300 es"), "{}", entry.name);
     }

@@ -166,7 +166,9 @@ impl Renderer {
             .map_err(|e| RenderError::Device(e.to_string()))?;
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = Arc::clone(&errors);
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| push_error(&sink, format!("GPU error: {e}"))));
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            push_error(&sink, format!("GPU error: {e}"))
+        }));
         let sink = Arc::clone(&errors);
         device.set_device_lost_callback(move |reason, message| {
             push_error(&sink, format!("the GPU device was lost ({reason:?}): {message}"));
@@ -177,7 +179,11 @@ impl Renderer {
             .ok_or_else(|| RenderError::Surface(backend, "no usable surface format".into()))?;
         surface.configure(&device, &config);
         let sample_count =
-            if adapter.get_texture_format_features(color_format).flags.sample_count_supported(4) { 4 } else { 1 };
+            if adapter.get_texture_format_features(color_format).flags.sample_count_supported(4) {
+                4
+            } else {
+                1
+            };
 
         let camera_buffer = uniform_buffer(&device, "camera", std::mem::size_of::<CameraRaw>() as u64);
         let joints_buffer = uniform_buffer(&device, "joints", std::mem::size_of::<JointsRaw>() as u64);
@@ -319,7 +325,9 @@ impl Renderer {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: self.color_format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let mut commands = vec![self.encode(frame, &texture)];
@@ -349,7 +357,10 @@ impl Renderer {
         self.queue.submit(commands);
         map_read(&self.device, &buffer).await?;
         let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
-        let bgra = matches!(self.color_format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
+        let bgra = matches!(
+            self.color_format,
+            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+        );
         let mut rgba = Vec::with_capacity((row * height as u64) as usize);
         for y in 0..height as usize {
             let line = &mapped[y * padded as usize..y * padded as usize + row as usize];
@@ -393,7 +404,8 @@ impl Renderer {
         let target_view = target.create_view(&Default::default());
         let (fw, fh) = (target.width(), target.height());
         let visible = |r: &Rect| r.width > 0 && r.height > 0 && r.x + r.width <= fw && r.y + r.height <= fh;
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut encoder =
+            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut slot = 0u64;
         if self.composed {
             // The background (gaps between views), then each view drawn at its texture's origin
@@ -402,9 +414,8 @@ impl Renderer {
             let size = frame.views[0].0;
             let mut cache = self.view_targets.borrow_mut();
             if cache.as_ref().is_none_or(|t| (t.width, t.height) != (size.width, size.height)) {
-                *cache = (size.width > 0 && size.height > 0).then(|| {
-                    ViewTargets::new(&self.device, self.color_format, self.sample_count, size)
-                });
+                *cache = (size.width > 0 && size.height > 0)
+                    .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
             }
             let Some(targets) = cache.as_ref() else { return encoder.finish() };
             for (i, (rect, plan)) in frame.views.iter().enumerate() {
@@ -417,7 +428,8 @@ impl Renderer {
                     None => (resolve, None),
                 };
                 {
-                    let mut pass = begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
+                    let mut pass =
+                        begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
                     self.draw_view(&mut pass, plan, [0.0; 2], &mut slot);
                 }
                 encoder.copy_texture_to_texture(
@@ -436,12 +448,25 @@ impl Renderer {
                 Some(msaa) => (msaa, Some(&target_view)),
                 None => (&target_view, None),
             };
-            let mut pass = begin_pass(&mut encoder, color, resolve_target, Some(depth), background_for(self.color_format));
+            let mut pass = begin_pass(
+                &mut encoder,
+                color,
+                resolve_target,
+                Some(depth),
+                background_for(self.color_format),
+            );
             for (rect, plan) in &frame.views {
                 if !visible(rect) {
                     continue;
                 }
-                pass.set_viewport(rect.x as f32, rect.y as f32, rect.width as f32, rect.height as f32, 0.0, 1.0);
+                pass.set_viewport(
+                    rect.x as f32,
+                    rect.y as f32,
+                    rect.width as f32,
+                    rect.height as f32,
+                    0.0,
+                    1.0,
+                );
                 pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
                 self.draw_view(&mut pass, plan, [rect.x as f32, rect.y as f32], &mut slot);
             }
@@ -506,7 +531,10 @@ fn begin_pass<'e>(
         })],
         depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
             view,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Discard,
+            }),
             stencil_ops: None,
         }),
         timestamp_writes: None,
@@ -527,12 +555,7 @@ struct ViewTargets {
 }
 
 impl ViewTargets {
-    fn new(
-        device: &wgpu::Device,
-        color_format: wgpu::TextureFormat,
-        sample_count: u32,
-        size: Rect,
-    ) -> Self {
+    fn new(device: &wgpu::Device, color_format: wgpu::TextureFormat, sample_count: u32, size: Rect) -> Self {
         let textures = [0, 1, 2].map(|_| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("view colour"),
@@ -573,7 +596,9 @@ async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), Re
             Some(true) => return Ok(()),
             Some(false) => return Err(RenderError::Readback("the buffer could not be mapped".into())),
             None if js_sys::Date::now() - started > MAP_TIMEOUT_MS => {
-                return Err(RenderError::Readback(format!("the GPU did not finish within {MAP_TIMEOUT_MS} ms")));
+                return Err(RenderError::Readback(format!(
+                    "the GPU did not finish within {MAP_TIMEOUT_MS} ms"
+                )));
             }
             None => yield_to_event_loop().await,
         }
@@ -586,7 +611,8 @@ const MAP_TIMEOUT_MS: f64 = 20_000.0;
 /// Resolves on the next turn of the event loop (a zero-delay timeout).
 async fn yield_to_event_loop() {
     let promise = js_sys::Promise::new(&mut |resolve, _reject| {
-        let set_timeout = web_sys::window().map(|w| w.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, 0));
+        let set_timeout =
+            web_sys::window().map(|w| w.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, 0));
         if !matches!(set_timeout, Some(Ok(_))) {
             // No window (a worker): resolve at once; the loop's deadline still bounds the wait.
             let _ = resolve.call0(&wasm_bindgen::JsValue::NULL);
@@ -648,7 +674,8 @@ fn surface_config(
         None => (first, first),
     };
     // Views are copied into the canvas where it accepts copies (see `Renderer::composed`).
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | if copies { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
     let config = wgpu::SurfaceConfiguration {
         usage,
         format,
@@ -820,7 +847,11 @@ fn create_pipelines(
                         stencil: Default::default(),
                         bias: Default::default(),
                     }),
-                    multisample: wgpu::MultisampleState { count: sample_count, mask: !0, alpha_to_coverage_enabled: false },
+                    multisample: wgpu::MultisampleState {
+                        count: sample_count,
+                        mask: !0,
+                        alpha_to_coverage_enabled: false,
+                    },
                     fragment: Some(wgpu::FragmentState {
                         module: &module,
                         entry_point: Some("fs_main"),
@@ -927,7 +958,8 @@ async fn decode_texture(
     let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
     let options = web_sys::BlobPropertyBag::new();
     options.set_type(mime_type);
-    let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options).map_err(|e| format!("{e:?}"))?;
+    let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options)
+        .map_err(|e| format!("{e:?}"))?;
     let bitmap_options = web_sys::ImageBitmapOptions::new();
     // The texture is sRGB and glTF's colours are not premultiplied: take the bytes as they are.
     bitmap_options.set_color_space_conversion(web_sys::ColorSpaceConversion::None);
@@ -940,7 +972,11 @@ async fn decode_texture(
         .map_err(|e| js_sys::Error::from(e).message().as_string().unwrap_or_else(|| "decode failed".into()))?
         .dyn_into()
         .map_err(|_| "createImageBitmap returned something else")?;
-    let size = wgpu::Extent3d { width: bitmap.width().max(1), height: bitmap.height().max(1), depth_or_array_layers: 1 };
+    let size = wgpu::Extent3d {
+        width: bitmap.width().max(1),
+        height: bitmap.height().max(1),
+        depth_or_array_layers: 1,
+    };
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("base colour"),
         size,

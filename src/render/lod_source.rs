@@ -11,8 +11,8 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::character::Character;
 use crate::clod::Clod;
-use crate::progressive::PmCursor;
 use crate::mesh::PrimitiveRange;
+use crate::progressive::PmCursor;
 
 /// One vertex's attributes as the shader reads them (`LevelVertex` in `skin.wgsl`).
 #[repr(C)]
@@ -128,7 +128,14 @@ impl LodSource {
                     None => level.vertices.clone(),
                 };
                 let materials = materials_of(&level.vertices, &level.indices);
-                build_level(&attributes, &level.vertices, &ancestor_ids, &level.indices, &materials, level.error)
+                build_level(
+                    &attributes,
+                    &level.vertices,
+                    &ancestor_ids,
+                    &level.indices,
+                    &materials,
+                    level.error,
+                )
             })
             .collect();
         Self { levels }
@@ -159,7 +166,10 @@ impl LodSource {
 
 /// Per-triangle materials of a mesh over progressive-mesh vertex ids: a triangle takes the
 /// material of the input vertex its first corner descends from.
-fn clod_materials<'a>(character: &Character, clod: &'a Clod) -> impl Fn(&[u32], &[u32]) -> Vec<Option<usize>> + 'a {
+fn clod_materials<'a>(
+    character: &Character,
+    clod: &'a Clod,
+) -> impl Fn(&[u32], &[u32]) -> Vec<Option<usize>> + 'a {
     let input_material = vertex_materials(character);
     let pm = &clod.apm.pm;
     move |vertices, indices| {
@@ -227,7 +237,10 @@ pub fn build_level(
     let vertices = ids
         .iter()
         .zip(ancestor_ids)
-        .map(|(&v, &a)| GeomorphVertexRaw { fine: attributes.vertex(v as usize), coarse: attributes.vertex(a as usize) })
+        .map(|(&v, &a)| GeomorphVertexRaw {
+            fine: attributes.vertex(v as usize),
+            coarse: attributes.vertex(a as usize),
+        })
         .collect();
     let mut order: Vec<usize> = (0..materials.len()).collect();
     // Default material (None) first, then by index: a fixed order, so every level draws alike.

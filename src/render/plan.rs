@@ -56,7 +56,14 @@ pub struct DrawCall {
 
 impl DrawCall {
     fn opaque(level: usize) -> Self {
-        Self { level, pass: PassKind::Opaque, morph_t: None, opacity: 1.0, dither_mode: 0, dither_threshold: 0.0 }
+        Self {
+            level,
+            pass: PassKind::Opaque,
+            morph_t: None,
+            opacity: 1.0,
+            dither_mode: 0,
+            dither_threshold: 0.0,
+        }
     }
 
     fn blended(level: usize, pass: PassKind, opacity: f32) -> Self {
@@ -140,14 +147,23 @@ mod tests {
     #[test]
     fn blend_variants_use_complementary_opacity() {
         let naive = plan_view(Method::AlphaBlend(BlendVariant::Naive), &at(1, 0.25), 2);
-        assert_eq!(naive.draws.iter().map(|d| (d.level, d.opacity)).collect::<Vec<_>>(), [(0, 0.75), (1, 0.25)]);
+        assert_eq!(
+            naive.draws.iter().map(|d| (d.level, d.opacity)).collect::<Vec<_>>(),
+            [(0, 0.75), (1, 0.25)]
+        );
         let early = plan_view(Method::AlphaBlend(BlendVariant::OpaqueFirst), &at(1, 0.25), 2);
         assert_eq!(early.draws[0], DrawCall::opaque(0));
-        assert_eq!((early.draws[1].level, early.draws[1].pass, early.draws[1].opacity), (1, PassKind::BlendOver, 0.5));
+        assert_eq!(
+            (early.draws[1].level, early.draws[1].pass, early.draws[1].opacity),
+            (1, PassKind::BlendOver, 0.5)
+        );
         let late = plan_view(Method::AlphaBlend(BlendVariant::OpaqueFirst), &at(1, 0.75), 2);
         assert_eq!(late.draws[0], DrawCall::opaque(1));
         assert_eq!((late.draws[1].level, late.draws[1].opacity), (0, 0.5));
         let dither = plan_view(Method::AlphaBlend(BlendVariant::Dither), &at(1, 0.25), 2);
-        assert_eq!(dither.draws.iter().map(|d| (d.dither_mode, d.dither_threshold)).collect::<Vec<_>>(), [(1, 0.75), (2, 0.75)]);
+        assert_eq!(
+            dither.draws.iter().map(|d| (d.dither_mode, d.dither_threshold)).collect::<Vec<_>>(),
+            [(1, 0.75), (2, 0.75)]
+        );
     }
 }

@@ -74,13 +74,19 @@ impl Viewer {
     ///
     /// Rejects with an `Error` naming the problem: a file the importer refuses, no adapter or
     /// device for the backend, too many joints, an undecodable texture.
-    pub async fn create(canvas: web_sys::HtmlCanvasElement, glb: Vec<u8>, options: JsValue) -> Result<Viewer, JsError> {
+    pub async fn create(
+        canvas: web_sys::HtmlCanvasElement,
+        glb: Vec<u8>,
+        options: JsValue,
+    ) -> Result<Viewer, JsError> {
         let backend = settings::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
         let choice = match backend.as_str() {
             "webgpu" => BackendChoice::WebGpu,
             "webgl2" if cfg!(feature = "webgl") => BackendChoice::WebGl2,
             "webgl2" => return Err(JsError::new("this build has no WebGL2 backend; load the webgl build")),
-            other => return Err(JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\""))),
+            other => {
+                return Err(JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\"")))
+            }
         };
         let character = import::from_glb(&glb).map_err(js_error)?;
         let mut warnings = character.warnings.clone();
@@ -131,7 +137,8 @@ impl Viewer {
     ///
     /// Throws only when called while `readPixels` is still running.
     pub fn frame(&self, now_ms: f64) -> Result<(), JsError> {
-        let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy (readPixels running)"))?;
+        let mut inner =
+            self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy (readPixels running)"))?;
         inner.advance(now_ms);
         inner.draw();
         Ok(())
@@ -188,7 +195,8 @@ impl Viewer {
             let guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
             let views = guard.frame_views();
             let input = FrameInput { camera: guard.camera_raw, skin: &guard.skin, views };
-            let pixels = guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
+            let pixels =
+                guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
             let out = js_sys::Object::new();
             let set = |k: &str, v: JsValue| js_sys::Reflect::set(&out, &k.into(), &v).map(|_| ());
             set("width", pixels.width.into())?;
@@ -229,7 +237,8 @@ impl Inner {
             DistanceMode::Manual => s.manual_distance * self.framing,
             DistanceMode::Dolly => {
                 // Sweep from framed to past the coarsest switch, within 2× to 100× framed.
-                let far = (switch.last().copied().unwrap_or(0.0) * 1.3).clamp(2.0 * self.framing, 100.0 * self.framing);
+                let far = (switch.last().copied().unwrap_or(0.0) * 1.3)
+                    .clamp(2.0 * self.framing, 100.0 * self.framing);
                 camera::dolly_distance(self.framing, far, s.dolly_period, self.dolly_time)
             }
         };
@@ -242,7 +251,9 @@ impl Inner {
         }
         let continuous = s.continuous_triangles.map(|_| levels);
         self.plans = s.methods.map(|m| match continuous {
-            Some(level) => plan_view(Method::Popping, &Schedule { selected: level, coordinate: 0.0 }, level + 1),
+            Some(level) => {
+                plan_view(Method::Popping, &Schedule { selected: level, coordinate: 0.0 }, level + 1)
+            }
             None => plan_view(m, &self.schedule, levels),
         });
         self.camera.distance = self.distance;

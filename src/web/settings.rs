@@ -196,7 +196,9 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
         };
         let text = || value.as_string().ok_or_else(|| format!("{key} must be a string, got {value:?}"));
         match key.as_str() {
-            "paused" => u.paused = Some(value.as_bool().ok_or_else(|| format!("paused must be true or false"))?),
+            "paused" => {
+                u.paused = Some(value.as_bool().ok_or_else(|| format!("paused must be true or false"))?)
+            }
             "time" => u.time = Some(number(0.0, 1e9)?),
             "speed" => u.speed = Some(number(0.0, 10.0)? as f32),
             "clip" => {
@@ -204,14 +206,21 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                     None
                 } else {
                     let name = text()?;
-                    Some(clips.iter().position(|c| *c == name).ok_or_else(|| format!("no clip {name:?}; have {clips:?}"))?)
+                    Some(
+                        clips
+                            .iter()
+                            .position(|c| *c == name)
+                            .ok_or_else(|| format!("no clip {name:?}; have {clips:?}"))?,
+                    )
                 })
             }
             "distanceMode" => {
                 u.distance_mode = Some(match text()?.as_str() {
                     "dolly" => DistanceMode::Dolly,
                     "manual" => DistanceMode::Manual,
-                    other => return Err(format!("distanceMode must be \"dolly\" or \"manual\", got {other:?}")),
+                    other => {
+                        return Err(format!("distanceMode must be \"dolly\" or \"manual\", got {other:?}"))
+                    }
                 })
             }
             // From a tenth of the framing distance to a thousand times it: beyond, nothing to see.
@@ -231,7 +240,8 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "zone" => u.zone = Some(number(0.0, 1.0)? as f32),
             "variant" => u.variant = Some(parse_variant(&text()?)?),
             "methods" => {
-                let array: js_sys::Array = value.clone().dyn_into().map_err(|_| "methods must be an array of three names")?;
+                let array: js_sys::Array =
+                    value.clone().dyn_into().map_err(|_| "methods must be an array of three names")?;
                 if array.length() != 3 {
                     return Err(format!("methods must name three views, got {}", array.length()));
                 }
@@ -241,13 +251,18 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                         Some("popping") => Method::Popping,
                         Some("alpha") => Method::AlphaBlend(BlendVariant::OpaqueFirst),
                         Some("geomorph") => Method::Geomorph,
-                        other => return Err(format!("methods[{i}] must be popping, alpha or geomorph, got {other:?}")),
+                        other => {
+                            return Err(format!(
+                                "methods[{i}] must be popping, alpha or geomorph, got {other:?}"
+                            ))
+                        }
                     };
                 }
                 u.methods = Some(methods);
             }
             "continuousTriangles" => {
-                u.continuous_triangles = Some(if value.is_null() { None } else { Some(number(1.0, 1e9)? as u32) })
+                u.continuous_triangles =
+                    Some(if value.is_null() { None } else { Some(number(1.0, 1e9)? as u32) })
             }
             _ => unreachable!("checked against KEYS"),
         }

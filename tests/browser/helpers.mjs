@@ -118,7 +118,7 @@ export function clock(startMs = 1000) {
 // the animation paused at `time`: pops to `k - 1` just before the switch distance, moves just
 // past it, then steps 0.1 s frames with `duration` = 1 s per level until `t` is reached.
 // Returns the last state. `switchScale` places the switch at that many framing distances.
-export async function midTransition(page, c, { k, t, methods, variant = 'opaque-first', switchAt = 2.5, time = 0.4 }) {
+export async function midTransition(page, c, { k, t, methods, variant = 'opaque-first', switchAt = 1.5, time = 0.4 }) {
   let state = await frame(page, c.now, { paused: true, time, methods, variant, transition: 'time', duration: 0, hysteresis: 0.1, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
   const tolerance = tuneTolerance(state, k, switchAt);
   state = await frame(page, c.tick(100), { tolerance, distance: switchAt * 1.1 * 0.97 });

@@ -10,7 +10,7 @@ after(async () => { await browser?.close(); });
 
 async function picture(backend, methods) {
   const page = await openPage(browser, { backend });
-  const state = await midTransition(page, clock(), { k: 4, t: 0.5, methods, variant: 'dither' });
+  const state = await midTransition(page, clock(), { k: 4, t: 0.5, methods, variant: 'dither', switchAt: 1.2 });
   assert.equal(state.backend, backend);
   assert.equal(state.errors.length, 0, state.errors.join('\n'));
   const pixels = await readPixels(page);
