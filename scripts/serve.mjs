@@ -1,11 +1,16 @@
-// Static file server for www/ on 127.0.0.1. Honours PORT; prints the page's URL once it listens.
-// Serves .wasm as application/wasm (needed for streaming compilation) and never leaves www/.
+// Static file server on 127.0.0.1: www/ at /, the repository's assets/ at /assets/, and, when
+// MODELS_DIR is set (the browser tests point it at ../shared/models), that folder at /models/.
+// Honours PORT (0 picks a free port); prints the page's URL once it listens. Serves .wasm as
+// application/wasm (needed for streaming compilation) and never leaves those folders.
 import { createServer } from 'node:http';
 import { readFile, stat } from 'node:fs/promises';
-import { extname, join, normalize, resolve } from 'node:path';
+import { extname, join, normalize, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
-const root = resolve(fileURLToPath(new URL('../www/', import.meta.url)));
+const repo = resolve(fileURLToPath(new URL('..', import.meta.url)));
+const mounts = [['/assets/', join(repo, 'assets')]];
+if (process.env.MODELS_DIR) mounts.push(['/models/', resolve(process.env.MODELS_DIR)]);
+mounts.push(['/', join(repo, 'www')]);
 const port = Number(process.env.PORT ?? 8080);
 const types = {
   '.html': 'text/html; charset=utf-8', '.js': 'text/javascript; charset=utf-8', '.mjs': 'text/javascript; charset=utf-8',
@@ -16,8 +21,10 @@ const types = {
 const server = createServer(async (req, res) => {
   try {
     const url = new URL(req.url, 'http://localhost');
-    let path = normalize(join(root, decodeURIComponent(url.pathname)));
-    if (!path.startsWith(root)) { res.writeHead(403).end('forbidden'); return; }
+    const pathname = decodeURIComponent(url.pathname);
+    const [prefix, dir] = mounts.find(([p]) => pathname.startsWith(p));
+    let path = normalize(join(dir, pathname.slice(prefix.length)));
+    if (path !== dir && !path.startsWith(dir + sep)) { res.writeHead(403).end('forbidden'); return; }
     if ((await stat(path).catch(() => null))?.isDirectory()) path = join(path, 'index.html');
     const body = await readFile(path);
     res.writeHead(200, { 'content-type': types[extname(path)] ?? 'application/octet-stream', 'cache-control': 'no-cache' });

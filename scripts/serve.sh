@@ -4,4 +4,6 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
 ensure_wasm_tools
 build_wasm web
+build_wasm webgl
+node "$root/scripts/page-size.mjs"
 exec node "$root/scripts/serve.mjs"

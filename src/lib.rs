@@ -15,6 +15,7 @@ pub mod import;
 pub mod mesh;
 pub mod metrics;
 pub mod progressive;
+pub mod render;
 pub mod simplify;
 pub mod skeleton;
 pub mod skinning;
@@ -22,6 +23,8 @@ pub mod vertex_cache;
 
 #[cfg(feature = "js")]
 pub mod js_api;
+#[cfg(feature = "web")]
+pub mod web;
 
 pub use animation::{Clip, Wrap};
 pub use character::Character;

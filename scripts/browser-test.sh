@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Browser tests of the viewer page: builds both wasm builds (WebGPU and the WebGL2 fallback), serves
+# the page on a free port (with ../shared/models at /models/), runs tests/browser/*.test.mjs in
+# headless Debian Chromium (SwiftShader for WebGPU and WebGL2) and stops the server.
+# CHROMIUM overrides the browser path (default /usr/bin/chromium, from apt: never downloaded).
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
+cd "$root"
+ensure_wasm_tools
+ensure_npm_packages
+chromium="${CHROMIUM:-/usr/bin/chromium}"
+if ! "$chromium" --version >/dev/null 2>&1; then
+  echo "no Chromium at $chromium: apt-get install chromium (or set CHROMIUM)" >&2
+  exit 1
+fi
+
+build_wasm web
+build_wasm webgl
+node scripts/page-size.mjs
+
+log="$(mktemp)"
+MODELS_DIR="$root/../shared/models" PORT=0 node scripts/serve.mjs >"$log" 2>&1 &
+server=$!
+trap 'kill "$server" 2>/dev/null || true; rm -f "$log"' EXIT
+for _ in $(seq 100); do
+  url="$(grep -o 'http://[0-9.:]*/' "$log" || true)"
+  [ -n "$url" ] && break
+  sleep 0.1
+done
+if [ -z "$url" ]; then
+  echo "the server did not start:" >&2
+  cat "$log" >&2
+  exit 1
+fi
+echo "== browser tests against $url"
+# One file at a time: SwiftShader already uses every core.
+CLOD_URL="$url" CHROMIUM="$chromium" node --test --test-concurrency=1 tests/browser/

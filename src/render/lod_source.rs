@@ -1,0 +1,325 @@
+//! The levels the renderer draws, as GPU-ready arrays: each level's vertices carry their own
+//! attributes and those of their ancestor in the next coarser level (for geomorphs), and its
+//! triangles are grouped by material.
+//!
+//! Built from the full mesh alone (one level, every vertex its own ancestor) or from a level chain
+//! whose vertex ids index per-id attribute arrays (the articulated progressive mesh). Attributes
+//! are in bind space; skinning happens on the GPU.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::character::Character;
+use crate::clod::Clod;
+use crate::mesh::PrimitiveRange;
+use crate::progressive::PmCursor;
+
+/// One vertex's attributes as the shader reads them (`LevelVertex` in `skin.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct VertexRaw {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+    /// Linear RGBA.
+    pub color: [f32; 4],
+    pub joints: [u16; 4],
+    pub weights: [f32; 4],
+}
+
+/// A vertex and its ancestor (`GeomorphVertex` in `skin.wgsl`, locations 0..5 and 6..11).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GeomorphVertexRaw {
+    pub fine: VertexRaw,
+    pub coarse: VertexRaw,
+}
+
+/// Per-id attribute arrays (input vertices first, then any the simplifier created).
+#[derive(Clone, Copy, Debug)]
+pub struct Attributes<'a> {
+    pub positions: &'a [Vec3],
+    pub normals: &'a [Vec3],
+    pub uvs: Option<&'a [Vec2]>,
+    pub colors: Option<&'a [Vec4]>,
+    pub joints: &'a [[u16; 4]],
+    pub weights: &'a [[f32; 4]],
+}
+
+impl Attributes<'_> {
+    fn vertex(&self, id: usize) -> VertexRaw {
+        VertexRaw {
+            position: self.positions[id].to_array(),
+            normal: self.normals[id].to_array(),
+            uv: self.uvs.map_or([0.0; 2], |u| u[id].to_array()),
+            color: self.colors.map_or([1.0; 4], |c| c[id].to_array()),
+            joints: self.joints[id],
+            weights: self.weights[id],
+        }
+    }
+}
+
+/// One level ready for upload.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelData {
+    pub vertices: Vec<GeomorphVertexRaw>,
+    /// Triangle list into `vertices`, grouped by material in the order of `ranges`.
+    pub indices: Vec<u32>,
+    /// Material ranges of `indices`.
+    pub ranges: Vec<PrimitiveRange>,
+    /// Geometric error in model units (0 for the full mesh).
+    pub error: f32,
+}
+
+impl LevelData {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// All levels, finest first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LodSource {
+    pub levels: Vec<LevelData>,
+}
+
+impl LodSource {
+    /// The full mesh as the only level; every vertex is its own ancestor.
+    pub fn full_mesh(character: &Character) -> Self {
+        let mesh = &character.mesh;
+        let attributes = Attributes {
+            positions: &mesh.positions,
+            normals: &mesh.normals,
+            uvs: mesh.uvs.as_deref(),
+            colors: mesh.colors.as_deref(),
+            joints: &mesh.joints,
+            weights: &mesh.weights,
+        };
+        let ids: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+        let materials = triangle_materials(&mesh.primitives, mesh.triangle_count());
+        let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0);
+        Self { levels: vec![level] }
+    }
+
+    /// The discrete levels of an articulated progressive mesh built from `character`. Each
+    /// vertex's ancestor is its vertex in the next coarser level (itself in the coarsest).
+    ///
+    /// A level triangle takes the material of the input vertex its first corner descends from
+    /// (the simplifier keeps material borders, so all three corners agree).
+    pub fn from_clod(character: &Character, clod: &Clod) -> Self {
+        let apm = &clod.apm;
+        let attributes = Attributes {
+            positions: &apm.bind_positions,
+            normals: &apm.bind_normals,
+            uvs: apm.uvs.as_deref(),
+            colors: apm.colors.as_deref(),
+            joints: &apm.joints,
+            weights: &apm.weights,
+        };
+        let materials_of = clod_materials(character, clod);
+        let levels = clod
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(i, level)| {
+                let ancestor_ids: Vec<u32> = match clod.levels.get(i + 1) {
+                    Some(coarse) => level.ancestors.iter().map(|&a| coarse.vertices[a as usize]).collect(),
+                    None => level.vertices.clone(),
+                };
+                let materials = materials_of(&level.vertices, &level.indices);
+                build_level(
+                    &attributes,
+                    &level.vertices,
+                    &ancestor_ids,
+                    &level.indices,
+                    &materials,
+                    level.error,
+                )
+            })
+            .collect();
+        Self { levels }
+    }
+
+    /// The progressive mesh at a cursor's position as one level (its own ancestor): the
+    /// continuous LOD slider's mesh.
+    pub fn from_cursor(character: &Character, clod: &Clod, cursor: &PmCursor) -> LevelData {
+        let apm = &clod.apm;
+        let attributes = Attributes {
+            positions: &apm.bind_positions,
+            normals: &apm.bind_normals,
+            uvs: apm.uvs.as_deref(),
+            colors: apm.colors.as_deref(),
+            joints: &apm.joints,
+            weights: &apm.weights,
+        };
+        let materials = clod_materials(character, clod)(cursor.vertices(), cursor.indices());
+        let error = apm.pm.distance_after(cursor.level());
+        build_level(&attributes, cursor.vertices(), cursor.vertices(), cursor.indices(), &materials, error)
+    }
+
+    /// Geometric error of every level, finest first.
+    pub fn errors(&self) -> Vec<f32> {
+        self.levels.iter().map(|l| l.error).collect()
+    }
+}
+
+/// Per-triangle materials of a mesh over progressive-mesh vertex ids: a triangle takes the
+/// material of the input vertex its first corner descends from.
+fn clod_materials<'a>(
+    character: &Character,
+    clod: &'a Clod,
+) -> impl Fn(&[u32], &[u32]) -> Vec<Option<usize>> + 'a {
+    let input_material = vertex_materials(character);
+    let pm = &clod.apm.pm;
+    move |vertices, indices| {
+        indices
+            .chunks_exact(3)
+            .map(|t| {
+                let mut v = vertices[t[0] as usize] as usize;
+                while v >= pm.input_vertex_count {
+                    v = pm.survivor_source[v] as usize;
+                }
+                input_material.get(v).copied().flatten()
+            })
+            .collect()
+    }
+}
+
+/// Material of every input vertex: that of the first primitive whose triangles use it.
+fn vertex_materials(character: &Character) -> Vec<Option<usize>> {
+    let mesh = &character.mesh;
+    let mut out = vec![None; mesh.vertex_count()];
+    let mut seen = vec![false; mesh.vertex_count()];
+    for range in &mesh.primitives {
+        let start = range.first_index as usize;
+        let end = (start + range.index_count as usize).min(mesh.indices.len());
+        for &v in &mesh.indices[start.min(end)..end] {
+            if !seen[v as usize] {
+                seen[v as usize] = true;
+                out[v as usize] = range.material;
+            }
+        }
+    }
+    out
+}
+
+/// Material of every triangle from a mesh's primitive ranges (`None`: glTF's default material).
+pub fn triangle_materials(primitives: &[PrimitiveRange], triangles: usize) -> Vec<Option<usize>> {
+    let mut out = vec![None; triangles];
+    for range in primitives {
+        let first = (range.first_index / 3) as usize;
+        let end = (first + (range.index_count / 3) as usize).min(triangles);
+        for m in &mut out[first.min(end)..end] {
+            *m = range.material;
+        }
+    }
+    out
+}
+
+/// Builds one level: `ids[k]` is the attribute id of level vertex `k` and `ancestor_ids[k]` that
+/// of its ancestor; `indices` index level vertices; `materials` has one entry per triangle.
+/// Triangles are grouped by material (stably, so a vertex-cache order within a material stays).
+///
+/// # Panics
+/// If the arrays disagree in length or an id or index is out of range (callers build them from
+/// one validated source).
+pub fn build_level(
+    attributes: &Attributes,
+    ids: &[u32],
+    ancestor_ids: &[u32],
+    indices: &[u32],
+    materials: &[Option<usize>],
+    error: f32,
+) -> LevelData {
+    assert_eq!(ids.len(), ancestor_ids.len(), "one ancestor per vertex");
+    assert_eq!(indices.len(), 3 * materials.len(), "one material per triangle");
+    let vertices = ids
+        .iter()
+        .zip(ancestor_ids)
+        .map(|(&v, &a)| GeomorphVertexRaw {
+            fine: attributes.vertex(v as usize),
+            coarse: attributes.vertex(a as usize),
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..materials.len()).collect();
+    // Default material (None) first, then by index: a fixed order, so every level draws alike.
+    order.sort_by_key(|&t| materials[t].map_or(0, |m| m + 1));
+    let mut sorted = Vec::with_capacity(indices.len());
+    let mut ranges: Vec<PrimitiveRange> = Vec::new();
+    for t in order {
+        match ranges.last_mut() {
+            Some(r) if r.material == materials[t] => r.index_count += 3,
+            _ => ranges.push(PrimitiveRange {
+                first_index: sorted.len() as u32,
+                index_count: 3,
+                material: materials[t],
+            }),
+        }
+        sorted.extend_from_slice(&indices[3 * t..3 * t + 3]);
+    }
+    LevelData { vertices, indices: sorted, ranges, error }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn vertex_layout_matches_the_shader_locations() {
+        // gpu.rs declares these offsets for locations 0..5; 72 bytes per vertex, 144 with ancestor.
+        assert_eq!(std::mem::size_of::<VertexRaw>(), 72);
+        assert_eq!(std::mem::offset_of!(VertexRaw, joints), 48);
+        assert_eq!(std::mem::offset_of!(VertexRaw, weights), 56);
+        assert_eq!(std::mem::size_of::<GeomorphVertexRaw>(), 144);
+    }
+
+    #[test]
+    fn level_groups_triangles_by_material_and_pairs_ancestors() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let normals = [Vec3::Y; 4];
+        let joints = [[0u16, 0, 0, 0], [1, 0, 0, 0], [2, 0, 0, 0], [3, 0, 0, 0]];
+        let weights = [[1.0, 0.0, 0.0, 0.0]; 4];
+        let attributes = Attributes {
+            positions: &positions,
+            normals: &normals,
+            uvs: None,
+            colors: None,
+            joints: &joints,
+            weights: &weights,
+        };
+        let level = build_level(
+            &attributes,
+            &[3, 1, 2],
+            &[1, 1, 2],
+            &[0, 1, 2, 2, 1, 0, 1, 2, 0],
+            &[Some(1), None, Some(1)],
+            0.5,
+        );
+        assert_eq!(level.indices, [2, 1, 0, 0, 1, 2, 1, 2, 0]);
+        assert_eq!(
+            level.ranges,
+            [
+                PrimitiveRange { first_index: 0, index_count: 3, material: None },
+                PrimitiveRange { first_index: 3, index_count: 6, material: Some(1) },
+            ]
+        );
+        assert_eq!(level.vertices[0].fine.position, [0.0, 0.0, 1.0]);
+        assert_eq!(level.vertices[0].coarse.position, [1.0, 0.0, 0.0]);
+        assert_eq!(level.vertices[0].coarse.joints, [1, 0, 0, 0]);
+        assert_eq!(level.vertices[2].fine, level.vertices[2].coarse);
+        assert_eq!(level.vertices[1].fine.color, [1.0; 4], "no colours: white");
+        assert_eq!(level.triangle_count(), 3);
+    }
+
+    #[test]
+    fn primitive_ranges_become_triangle_materials() {
+        let ranges = [
+            PrimitiveRange { first_index: 0, index_count: 6, material: Some(0) },
+            PrimitiveRange { first_index: 6, index_count: 3, material: None },
+        ];
+        assert_eq!(triangle_materials(&ranges, 3), [Some(0), Some(0), None]);
+    }
+}

@@ -1,0 +1,169 @@
+//! What each view draws this frame: the draw calls that show the schedule's state by popping,
+//! alpha-blending or geomorphing. Pure data, so the GPU code only executes it and the rules are
+//! tested natively.
+//!
+//! `(fine, t)` is the schedule's blend ([`super::schedule::Schedule::blend`]): `t = 0` is exactly
+//! level `fine`, and `t → 1` approaches level `fine + 1`.
+
+use super::schedule::Schedule;
+
+/// How a view shows a change of level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Draws the selected level; changes are instant.
+    Popping,
+    /// Draws both levels with complementary opacity during a transition.
+    AlphaBlend(BlendVariant),
+    /// Draws the fine level once, morphing each vertex towards its ancestor.
+    Geomorph,
+}
+
+/// The alpha-blending variants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlendVariant {
+    /// Both levels translucent (`1 − t` and `t`), both writing depth: the background shows through.
+    Naive,
+    /// The dominant level opaque, the other blended over it without writing depth (Giegl & Wimmer
+    /// 2007, "Unpopping"): the fading level goes 0 → 1 over the first half, then they swap.
+    OpaqueFirst,
+    /// Screen-door: complementary 4×4 Bayer masks, both opaque; every pixel shows exactly one level.
+    Dither,
+}
+
+/// Pipeline state of a draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PassKind {
+    /// Depth test and write, no blending.
+    Opaque,
+    /// Alpha blending over what is there, depth test (less-equal) without depth write.
+    BlendOver,
+    /// Alpha blending with depth write (naive cross-fade).
+    BlendNaive,
+}
+
+/// One draw call of a view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawCall {
+    pub level: usize,
+    pub pass: PassKind,
+    /// `Some(t)` draws through the geomorph vertex shader with `morph_t = t`.
+    pub morph_t: Option<f32>,
+    pub opacity: f32,
+    /// 0 none, 1 keep below `dither_threshold`, 2 keep the rest (see `skin.wgsl`).
+    pub dither_mode: u32,
+    pub dither_threshold: f32,
+}
+
+impl DrawCall {
+    fn opaque(level: usize) -> Self {
+        Self {
+            level,
+            pass: PassKind::Opaque,
+            morph_t: None,
+            opacity: 1.0,
+            dither_mode: 0,
+            dither_threshold: 0.0,
+        }
+    }
+
+    fn blended(level: usize, pass: PassKind, opacity: f32) -> Self {
+        Self { pass, opacity, ..Self::opaque(level) }
+    }
+}
+
+/// What a view shows, for its label: level, transition parameter and triangles drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewPlan {
+    pub draws: Vec<DrawCall>,
+    /// The fine level shown (the selected one for popping).
+    pub level: usize,
+    /// Transition parameter towards `level + 1` (0 when none runs).
+    pub t: f32,
+}
+
+/// The draws of one view. `levels` is the number of levels (at least 1).
+pub fn plan_view(method: Method, schedule: &Schedule, levels: usize) -> ViewPlan {
+    let (fine, t) = schedule.blend(levels);
+    if method == Method::Popping {
+        let level = schedule.selected.min(levels.saturating_sub(1));
+        return ViewPlan { draws: vec![DrawCall::opaque(level)], level, t: 0.0 };
+    }
+    if t <= 0.0 {
+        return ViewPlan { draws: vec![DrawCall::opaque(fine)], level: fine, t: 0.0 };
+    }
+    let coarse = fine + 1;
+    let draws = match method {
+        Method::Popping => unreachable!("handled above"),
+        Method::Geomorph => vec![DrawCall { morph_t: Some(t), ..DrawCall::opaque(fine) }],
+        Method::AlphaBlend(BlendVariant::Naive) => vec![
+            DrawCall::blended(fine, PassKind::BlendNaive, 1.0 - t),
+            DrawCall::blended(coarse, PassKind::BlendNaive, t),
+        ],
+        Method::AlphaBlend(BlendVariant::OpaqueFirst) => {
+            if t < 0.5 {
+                vec![DrawCall::opaque(fine), DrawCall::blended(coarse, PassKind::BlendOver, 2.0 * t)]
+            } else {
+                vec![DrawCall::opaque(coarse), DrawCall::blended(fine, PassKind::BlendOver, 2.0 * (1.0 - t))]
+            }
+        }
+        Method::AlphaBlend(BlendVariant::Dither) => {
+            // One threshold for both: the masks are exact complements, whatever the rounding.
+            let threshold = 1.0 - t;
+            vec![
+                DrawCall { dither_mode: 1, dither_threshold: threshold, ..DrawCall::opaque(fine) },
+                DrawCall { dither_mode: 2, dither_threshold: threshold, ..DrawCall::opaque(coarse) },
+            ]
+        }
+    };
+    ViewPlan { draws, level: fine, t }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn at(selected: usize, coordinate: f32) -> Schedule {
+        Schedule { selected, coordinate }
+    }
+
+    #[test]
+    fn popping_draws_the_selected_level_only() {
+        let p = plan_view(Method::Popping, &at(2, 1.25), 4);
+        assert_eq!(p.draws, vec![DrawCall::opaque(2)]);
+        assert_eq!((p.level, p.t), (2, 0.0));
+    }
+
+    #[test]
+    fn geomorph_is_one_draw_of_the_fine_level() {
+        let p = plan_view(Method::Geomorph, &at(2, 1.25), 4);
+        assert_eq!(p.draws.len(), 1);
+        assert_eq!((p.draws[0].level, p.draws[0].morph_t), (1, Some(0.25)));
+        let idle = plan_view(Method::Geomorph, &at(1, 1.0), 4);
+        assert_eq!(idle.draws, vec![DrawCall::opaque(1)], "no morph outside transitions");
+    }
+
+    #[test]
+    fn blend_variants_use_complementary_opacity() {
+        let naive = plan_view(Method::AlphaBlend(BlendVariant::Naive), &at(1, 0.25), 2);
+        assert_eq!(
+            naive.draws.iter().map(|d| (d.level, d.opacity)).collect::<Vec<_>>(),
+            [(0, 0.75), (1, 0.25)]
+        );
+        let early = plan_view(Method::AlphaBlend(BlendVariant::OpaqueFirst), &at(1, 0.25), 2);
+        assert_eq!(early.draws[0], DrawCall::opaque(0));
+        assert_eq!(
+            (early.draws[1].level, early.draws[1].pass, early.draws[1].opacity),
+            (1, PassKind::BlendOver, 0.5)
+        );
+        let late = plan_view(Method::AlphaBlend(BlendVariant::OpaqueFirst), &at(1, 0.75), 2);
+        assert_eq!(late.draws[0], DrawCall::opaque(1));
+        assert_eq!((late.draws[1].level, late.draws[1].opacity), (0, 0.5));
+        let dither = plan_view(Method::AlphaBlend(BlendVariant::Dither), &at(1, 0.25), 2);
+        assert_eq!(
+            dither.draws.iter().map(|d| (d.dither_mode, d.dither_threshold)).collect::<Vec<_>>(),
+            [(1, 0.75), (2, 0.75)]
+        );
+    }
+}

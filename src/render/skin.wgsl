@@ -1,0 +1,178 @@
+// Skinned, lit character for the three LOD views (src/render/gpu.rs binds it; the Rust mirrors of
+// these structs are in src/render/uniforms.rs and tests/shaders.rs checks their sizes match).
+//
+// Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame.
+// `vs_level` draws one level as it is; `vs_geomorph` also reads each vertex's ancestor in the next
+// coarser level (the same attributes, locations 6..11), skins both and interpolates by `draw.morph_t`
+// (0 = exactly the fine level, 1 = exactly the coarse one). Lighting is in model space: a hemisphere
+// ambient plus one directional light, Lambert diffuse and a little Blinn-Phong. Colours are linear;
+// the target is sRGB, or the shader encodes when `camera.encode_srgb` is 1.
+
+// Must equal MAX_JOINTS in uniforms.rs: 256 mat4 fill WebGL2's minimum uniform block (16 KiB).
+const MAX_JOINTS: u32 = 256u;
+
+struct Camera {
+    clip_from_model: mat4x4<f32>,
+    eye_model: vec4<f32>,
+    // xyz: unit direction towards the light, model space; w: its intensity.
+    light_dir: vec4<f32>,
+    sky_color: vec4<f32>,
+    ground_color: vec4<f32>,
+    // xyz: model-space up for the hemisphere light.
+    up: vec4<f32>,
+    encode_srgb: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+};
+
+struct Joints {
+    model_from_bind: array<mat4x4<f32>, MAX_JOINTS>,
+};
+
+struct Material {
+    base_color_factor: vec4<f32>,
+    // Fragments with alpha below this are discarded (glTF MASK); 0 for other modes.
+    alpha_cutoff: f32,
+    double_sided: u32,
+    _pad0: u32,
+    _pad1: u32,
+};
+
+struct Draw {
+    morph_t: f32,
+    // Alpha written by the fragment shader (1 for opaque draws).
+    opacity: f32,
+    // 0: no dither; 1: keep pixels whose Bayer threshold is below `dither_threshold`; 2: keep the
+    // others. Modes 1 and 2 with the same threshold cover every pixel exactly once.
+    dither_mode: u32,
+    _pad0: u32,
+    dither_threshold: f32,
+    _pad1: f32,
+    // Top-left of the view in framebuffer pixels, so every view dithers with the same pattern.
+    viewport_origin: vec2<f32>,
+};
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> joints: Joints;
+@group(1) @binding(0) var<uniform> material: Material;
+@group(1) @binding(1) var base_color_texture: texture_2d<f32>;
+@group(1) @binding(2) var base_color_sampler: sampler;
+@group(2) @binding(0) var<uniform> draw: Draw;
+
+struct LevelVertex {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) color: vec4<f32>,
+    @location(4) joints: vec4<u32>,
+    @location(5) weights: vec4<f32>,
+};
+
+struct GeomorphVertex {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) color: vec4<f32>,
+    @location(4) joints: vec4<u32>,
+    @location(5) weights: vec4<f32>,
+    @location(6) coarse_position: vec3<f32>,
+    @location(7) coarse_normal: vec3<f32>,
+    @location(8) coarse_uv: vec2<f32>,
+    @location(9) coarse_color: vec4<f32>,
+    @location(10) coarse_joints: vec4<u32>,
+    @location(11) coarse_weights: vec4<f32>,
+};
+
+struct Varyings {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) color: vec4<f32>,
+};
+
+fn blend_matrix(j: vec4<u32>, w: vec4<f32>) -> mat4x4<f32> {
+    // Out-of-range joints (the importer rejects them; defence in depth) read the last slot rather
+    // than past the array. min, not select: GLSL ES 3.00 has no mix() over uvec4.
+    let i = min(j, vec4<u32>(MAX_JOINTS - 1u));
+    return joints.model_from_bind[i.x] * w.x + joints.model_from_bind[i.y] * w.y
+        + joints.model_from_bind[i.z] * w.z + joints.model_from_bind[i.w] * w.w;
+}
+
+fn finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32>) -> Varyings {
+    var out: Varyings;
+    out.clip = camera.clip_from_model * vec4<f32>(position, 1.0);
+    out.position = position;
+    out.normal = normal;
+    out.uv = uv;
+    out.color = color;
+    return out;
+}
+
+@vertex
+fn vs_level(v: LevelVertex) -> Varyings {
+    let m = blend_matrix(v.joints, v.weights);
+    let p = (m * vec4<f32>(v.position, 1.0)).xyz;
+    // No non-uniform scale in skins we accept, so the upper 3x3 transforms normals too.
+    let n = (m * vec4<f32>(v.normal, 0.0)).xyz;
+    return finish(p, n, v.uv, v.color);
+}
+
+@vertex
+fn vs_geomorph(v: GeomorphVertex) -> Varyings {
+    let fine = blend_matrix(v.joints, v.weights);
+    let coarse = blend_matrix(v.coarse_joints, v.coarse_weights);
+    let t = draw.morph_t;
+    // mix(a, b, t) = a * (1 - t) + b * t: exactly a at t = 0 and exactly b at t = 1.
+    let p = mix((fine * vec4<f32>(v.position, 1.0)).xyz, (coarse * vec4<f32>(v.coarse_position, 1.0)).xyz, t);
+    let n = mix((fine * vec4<f32>(v.normal, 0.0)).xyz, (coarse * vec4<f32>(v.coarse_normal, 0.0)).xyz, t);
+    return finish(p, n, mix(v.uv, v.coarse_uv, t), mix(v.color, v.coarse_color, t));
+}
+
+// 4x4 Bayer matrix, thresholds (k + 0.5) / 16 so no pixel sits exactly on 0 or 1.
+fn bayer_threshold(pixel: vec2<u32>) -> f32 {
+    var m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    let k = m[(pixel.y % 4u) * 4u + pixel.x % 4u];
+    return (f32(k) + 0.5) / 16.0;
+}
+
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let lo = c * 12.92;
+    let hi = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(hi, lo, c <= vec3<f32>(0.0031308));
+}
+
+@fragment
+fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // Sample first: texture sampling needs uniform control flow, before any discard.
+    let texel = textureSample(base_color_texture, base_color_sampler, in.uv);
+    let base = material.base_color_factor * texel * in.color;
+    if (base.a < material.alpha_cutoff) {
+        discard;
+    }
+    if (draw.dither_mode != 0u) {
+        let pixel = vec2<u32>(max(in.clip.xy - draw.viewport_origin, vec2<f32>(0.0)));
+        let below = bayer_threshold(pixel) < draw.dither_threshold;
+        if (below != (draw.dither_mode == 1u)) {
+            discard;
+        }
+    }
+    var n = normalize(in.normal);
+    if (!front && material.double_sided == 1u) {
+        n = -n;
+    }
+    let l = camera.light_dir.xyz;
+    let up = camera.up.xyz;
+    let ambient = mix(camera.ground_color.rgb, camera.sky_color.rgb, 0.5 + 0.5 * dot(n, up));
+    let n_dot_l = max(dot(n, l), 0.0);
+    let view = normalize(camera.eye_model.xyz - in.position);
+    let h = normalize(l + view);
+    // A little Blinn-Phong: exponent 32 and strength 0.12 keep skin and cloth from looking plastic.
+    let specular = select(0.0, 0.12 * pow(max(dot(n, h), 0.0), 32.0), n_dot_l > 0.0);
+    var rgb = base.rgb * (ambient + n_dot_l * camera.light_dir.w) + vec3<f32>(specular * camera.light_dir.w);
+    if (camera.encode_srgb == 1u) {
+        rgb = srgb_encode(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)));
+    }
+    return vec4<f32>(rgb, draw.opacity);
+}

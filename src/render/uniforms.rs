@@ -1,0 +1,71 @@
+//! `#[repr(C)]` mirrors of the uniform structs of `skin.wgsl`, byte for byte (std140-compatible
+//! layouts: every field 4 or 16 bytes, explicit padding). `tests/shaders.rs` checks each size
+//! against naga's layouter, so a field added on one side only fails a test instead of drawing
+//! garbage. Matrices are column-major, as glam and WGSL store them.
+
+use bytemuck::{Pod, Zeroable};
+
+/// The skinning shader, validated by `tests/shaders.rs`.
+pub const SKIN_WGSL: &str = include_str!("skin.wgsl");
+
+/// Joint matrices per draw. 256 `mat4x4<f32>` are 16 KiB, WebGL2's guaranteed uniform block
+/// size; WebGPU uses the same uniform buffer so both backends do the same work. Must equal
+/// `MAX_JOINTS` in `skin.wgsl`.
+pub const MAX_JOINTS: usize = 256;
+
+/// `Camera` in `skin.wgsl`: one per frame, shared by the three views.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct CameraRaw {
+    pub clip_from_model: [[f32; 4]; 4],
+    pub eye_model: [f32; 4],
+    /// xyz: unit direction towards the light (model space); w: intensity.
+    pub light_dir: [f32; 4],
+    pub sky_color: [f32; 4],
+    pub ground_color: [f32; 4],
+    pub up: [f32; 4],
+    /// 1 when the colour target is not an sRGB format and the shader must encode.
+    pub encode_srgb: u32,
+    pub _pad: [u32; 3],
+}
+
+/// `Joints` in `skin.wgsl`: `model_from_bind` of every skin joint, unused slots zero.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct JointsRaw {
+    pub model_from_bind: [[[f32; 4]; 4]; MAX_JOINTS],
+}
+
+/// `Material` in `skin.wgsl`: one per glTF material (and one for the default material).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MaterialRaw {
+    /// Linear RGBA.
+    pub base_color_factor: [f32; 4],
+    pub alpha_cutoff: f32,
+    pub double_sided: u32,
+    pub _pad: [u32; 2],
+}
+
+/// `Draw` in `skin.wgsl`: one per draw call, at a dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DrawRaw {
+    pub morph_t: f32,
+    pub opacity: f32,
+    /// 0 none, 1 keep pixels below the threshold, 2 keep the others.
+    pub dither_mode: u32,
+    pub _pad0: u32,
+    pub dither_threshold: f32,
+    pub _pad1: f32,
+    pub viewport_origin: [f32; 2],
+}
+
+/// The WGSL struct name each mirror stands for, with the mirror's size: what `tests/shaders.rs`
+/// compares against naga's layout.
+pub const MIRRORS: [(&str, usize); 4] = [
+    ("Camera", std::mem::size_of::<CameraRaw>()),
+    ("Joints", std::mem::size_of::<JointsRaw>()),
+    ("Material", std::mem::size_of::<MaterialRaw>()),
+    ("Draw", std::mem::size_of::<DrawRaw>()),
+];

@@ -1,0 +1,282 @@
+//! The viewer's settings and how `setState({...})` changes them. Parsing reads a plain JavaScript
+//! object with `Reflect`; every key is checked, and a bad value names the key and what it accepts.
+
+use wasm_bindgen::JsValue;
+
+use crate::render::plan::{BlendVariant, Method};
+use crate::render::schedule::TransitionMode;
+
+/// Where the camera distance comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DistanceMode {
+    /// The dolly sweeps near → far → near.
+    Dolly,
+    /// The page's distance slider.
+    Manual,
+}
+
+/// Everything the page can change.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub paused: bool,
+    pub speed: f32,
+    /// Index of the clip that plays; `None` shows the rest pose.
+    pub clip: Option<usize>,
+    pub distance_mode: DistanceMode,
+    /// Manual distance in framing distances.
+    pub manual_distance: f32,
+    pub dolly_period: f32,
+    pub yaw_degrees: f32,
+    pub tolerance_px: f32,
+    pub hysteresis: f32,
+    pub transition: TransitionMode,
+    pub variant: BlendVariant,
+    /// Method of each view, left to right (top to bottom when stacked).
+    pub methods: [Method; 3],
+    /// Triangle count of the continuous level drawn by every view, when on.
+    pub continuous_triangles: Option<u32>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let variant = BlendVariant::OpaqueFirst;
+        Self {
+            paused: false,
+            speed: 1.0,
+            clip: Some(0),
+            distance_mode: DistanceMode::Dolly,
+            manual_distance: 1.0,
+            // Slow enough to watch each transition (levels change every second or two).
+            dolly_period: 16.0,
+            // A three-quarter view shows silhouette and face at once.
+            yaw_degrees: 30.0,
+            // Two pixels: level changes are visible as pops but the picture stays faithful.
+            tolerance_px: 2.0,
+            // 10 %: a camera hovering at a switch distance does not flicker between levels.
+            hysteresis: 0.1,
+            // Half a second per level: long enough to see, short enough to follow a dolly.
+            transition: TransitionMode::Time { seconds_per_level: 0.5 },
+            variant,
+            methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
+            continuous_triangles: None,
+        }
+    }
+}
+
+/// The changes one `setState` call asks for.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Update {
+    pub paused: Option<bool>,
+    pub time: Option<f64>,
+    pub speed: Option<f32>,
+    pub clip: Option<Option<usize>>,
+    pub distance_mode: Option<DistanceMode>,
+    pub distance: Option<f32>,
+    pub dolly_period: Option<f32>,
+    pub yaw: Option<f32>,
+    pub tolerance: Option<f32>,
+    pub hysteresis: Option<f32>,
+    pub transition: Option<String>,
+    pub duration: Option<f32>,
+    pub zone: Option<f32>,
+    pub variant: Option<BlendVariant>,
+    pub methods: Option<[Method; 3]>,
+    /// `Some(None)` turns the continuous level off.
+    pub continuous_triangles: Option<Option<u32>>,
+}
+
+impl Update {
+    /// Applies the changes (the continuous level is applied by the viewer, which uploads it).
+    pub fn apply(&self, s: &mut Settings) {
+        macro_rules! set {
+            ($field:ident, $value:expr) => {
+                if let Some(v) = $value {
+                    s.$field = v;
+                }
+            };
+        }
+        set!(paused, self.paused);
+        set!(speed, self.speed);
+        set!(clip, self.clip);
+        set!(distance_mode, self.distance_mode);
+        set!(manual_distance, self.distance);
+        set!(dolly_period, self.dolly_period);
+        set!(yaw_degrees, self.yaw);
+        set!(tolerance_px, self.tolerance);
+        set!(hysteresis, self.hysteresis);
+        if self.distance.is_some() && self.distance_mode.is_none() {
+            // Moving the distance slider takes the camera over from the dolly.
+            s.distance_mode = DistanceMode::Manual;
+        }
+        let (mut seconds, mut zone) = match s.transition {
+            TransitionMode::Time { seconds_per_level } => (seconds_per_level, 0.25),
+            TransitionMode::Distance { zone } => (0.5, zone),
+        };
+        seconds = self.duration.unwrap_or(seconds);
+        zone = self.zone.unwrap_or(zone);
+        let by_distance = match self.transition.as_deref() {
+            Some(kind) => kind == "distance",
+            None => matches!(s.transition, TransitionMode::Distance { .. }),
+        };
+        s.transition = if by_distance {
+            TransitionMode::Distance { zone }
+        } else {
+            TransitionMode::Time { seconds_per_level: seconds }
+        };
+        if let Some(methods) = self.methods {
+            s.methods = methods;
+        }
+        if let Some(v) = self.variant {
+            s.variant = v;
+        }
+        for m in &mut s.methods {
+            if let Method::AlphaBlend(_) = m {
+                *m = Method::AlphaBlend(s.variant);
+            }
+        }
+    }
+}
+
+/// The page's name of a method.
+pub fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Popping => "popping",
+        Method::AlphaBlend(_) => "alpha",
+        Method::Geomorph => "geomorph",
+    }
+}
+
+/// `obj[key]` as a string, when it is one.
+pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
+    if !obj.is_object() {
+        return None;
+    }
+    js_sys::Reflect::get(obj, &key.into()).ok()?.as_string()
+}
+
+const KEYS: [&str; 16] = [
+    "paused",
+    "time",
+    "speed",
+    "clip",
+    "distanceMode",
+    "distance",
+    "dollyPeriod",
+    "yaw",
+    "tolerance",
+    "hysteresis",
+    "transition",
+    "duration",
+    "zone",
+    "variant",
+    "methods",
+    "continuousTriangles",
+];
+
+/// Reads a `setState` object.
+///
+/// # Errors
+/// A message naming the first unknown key or bad value.
+pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
+    if !obj.is_object() {
+        return Err("setState takes an object, e.g. { paused: true }".into());
+    }
+    let mut u = Update::default();
+    for key in js_sys::Object::keys(obj.unchecked_ref::<js_sys::Object>()).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !KEYS.contains(&key.as_str()) {
+            return Err(format!("unknown setting {key:?}; known: {}", KEYS.join(", ")));
+        }
+        let value = js_sys::Reflect::get(obj, &key.as_str().into()).unwrap_or(JsValue::UNDEFINED);
+        let number = |lo: f64, hi: f64| -> Result<f64, String> {
+            match value.as_f64() {
+                Some(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
+                _ => Err(format!("{key} must be a number in [{lo}, {hi}], got {value:?}")),
+            }
+        };
+        let text = || value.as_string().ok_or_else(|| format!("{key} must be a string, got {value:?}"));
+        match key.as_str() {
+            "paused" => {
+                u.paused = Some(value.as_bool().ok_or_else(|| format!("paused must be true or false"))?)
+            }
+            "time" => u.time = Some(number(0.0, 1e9)?),
+            "speed" => u.speed = Some(number(0.0, 10.0)? as f32),
+            "clip" => {
+                u.clip = Some(if value.is_null() {
+                    None
+                } else {
+                    let name = text()?;
+                    Some(
+                        clips
+                            .iter()
+                            .position(|c| *c == name)
+                            .ok_or_else(|| format!("no clip {name:?}; have {clips:?}"))?,
+                    )
+                })
+            }
+            "distanceMode" => {
+                u.distance_mode = Some(match text()?.as_str() {
+                    "dolly" => DistanceMode::Dolly,
+                    "manual" => DistanceMode::Manual,
+                    other => {
+                        return Err(format!("distanceMode must be \"dolly\" or \"manual\", got {other:?}"))
+                    }
+                })
+            }
+            // From a tenth of the framing distance to a thousand times it: beyond, nothing to see.
+            "distance" => u.distance = Some(number(0.1, 1000.0)? as f32),
+            "dollyPeriod" => u.dolly_period = Some(number(0.0, 3600.0)? as f32),
+            "yaw" => u.yaw = Some(number(-3600.0, 3600.0)? as f32),
+            "tolerance" => u.tolerance = Some(number(0.01, 1000.0)? as f32),
+            "hysteresis" => u.hysteresis = Some(number(0.0, 10.0)? as f32),
+            "transition" => {
+                let t = text()?;
+                if t != "time" && t != "distance" {
+                    return Err(format!("transition must be \"time\" or \"distance\", got {t:?}"));
+                }
+                u.transition = Some(t);
+            }
+            "duration" => u.duration = Some(number(0.0, 60.0)? as f32),
+            "zone" => u.zone = Some(number(0.0, 1.0)? as f32),
+            "variant" => u.variant = Some(parse_variant(&text()?)?),
+            "methods" => {
+                let array: js_sys::Array =
+                    value.clone().dyn_into().map_err(|_| "methods must be an array of three names")?;
+                if array.length() != 3 {
+                    return Err(format!("methods must name three views, got {}", array.length()));
+                }
+                let mut methods = [Method::Popping; 3];
+                for (i, m) in methods.iter_mut().enumerate() {
+                    *m = match array.get(i as u32).as_string().as_deref() {
+                        Some("popping") => Method::Popping,
+                        Some("alpha") => Method::AlphaBlend(BlendVariant::OpaqueFirst),
+                        Some("geomorph") => Method::Geomorph,
+                        other => {
+                            return Err(format!(
+                                "methods[{i}] must be popping, alpha or geomorph, got {other:?}"
+                            ))
+                        }
+                    };
+                }
+                u.methods = Some(methods);
+            }
+            "continuousTriangles" => {
+                u.continuous_triangles =
+                    Some(if value.is_null() { None } else { Some(number(1.0, 1e9)? as u32) })
+            }
+            _ => unreachable!("checked against KEYS"),
+        }
+    }
+    Ok(u)
+}
+
+fn parse_variant(name: &str) -> Result<BlendVariant, String> {
+    match name {
+        "naive" => Ok(BlendVariant::Naive),
+        "opaque-first" => Ok(BlendVariant::OpaqueFirst),
+        "dither" => Ok(BlendVariant::Dither),
+        other => Err(format!("variant must be naive, opaque-first or dither, got {other:?}")),
+    }
+}
+
+use wasm_bindgen::JsCast;

@@ -1,0 +1,61 @@
+//! The renderer's level arrays on real models: each vertex's ancestor attributes are exactly the
+//! coarser level's vertex (so a geomorph at t = 1 draws the coarser level), material ranges cover
+//! every triangle, and the full-mesh source is the mesh itself.
+
+mod common;
+
+use clod_viewer::clod::{self, ClodOptions};
+use clod_viewer::import;
+use clod_viewer::render::lod_source::LodSource;
+
+fn check_ranges(source: &LodSource) {
+    for (i, level) in source.levels.iter().enumerate() {
+        let mut next = 0;
+        for r in &level.ranges {
+            assert_eq!(r.first_index, next, "level {i}: ranges are contiguous");
+            next += r.index_count;
+        }
+        assert_eq!(next as usize, level.indices.len(), "level {i}: ranges cover the indices");
+        assert!(level.indices.iter().all(|&v| (v as usize) < level.vertices.len()));
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn clod_levels_carry_their_ancestors() {
+    for name in ["CesiumMan.glb", "RiggedSimple.glb"] {
+        let Some(bytes) = common::model_bytes(name) else { continue };
+        let character = import::from_glb(&bytes).expect("import");
+        let built = clod::build(&character, &ClodOptions::default(), &mut |_| {}).expect("build");
+        let source = LodSource::from_clod(&character, &built);
+        assert_eq!(source.levels.len(), built.levels.len());
+        check_ranges(&source);
+        for (i, pair) in source.levels.windows(2).enumerate() {
+            let (fine, coarse) = (&pair[0], &pair[1]);
+            for (k, v) in fine.vertices.iter().enumerate() {
+                let a = built.levels[i].ancestors[k] as usize;
+                assert_eq!(v.coarse, coarse.vertices[a].fine, "{name} level {i} vertex {k}");
+            }
+            assert!(fine.triangle_count() > coarse.triangle_count());
+            assert!(fine.error <= coarse.error);
+        }
+        let last = source.levels.last().expect("levels");
+        assert!(last.vertices.iter().all(|v| v.fine == v.coarse), "{name}: the coarsest is its own ancestor");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn full_mesh_source_is_the_mesh() {
+    let Some(bytes) = common::model_bytes("Fox.glb") else { return };
+    let character = import::from_glb(&bytes).expect("import");
+    let source = LodSource::full_mesh(&character);
+    assert_eq!(source.levels.len(), 1);
+    check_ranges(&source);
+    let level = &source.levels[0];
+    assert_eq!(level.triangle_count(), character.mesh.triangle_count());
+    for (k, v) in level.vertices.iter().enumerate() {
+        assert_eq!(v.fine.position, character.mesh.positions[k].to_array());
+        assert_eq!(v.fine, v.coarse);
+    }
+}

@@ -1,0 +1,86 @@
+//! The renderer's WGSL, checked without a GPU: it parses and validates with naga (what wgpu runs
+//! on it), every entry point translates to GLSL ES 3.00 for WebGL2, and each uniform struct has
+//! the size of its `#[repr(C)]` Rust mirror (naga's layouter gives WGSL's size).
+
+use clod_viewer::render::uniforms::{MAX_JOINTS, MIRRORS, SKIN_WGSL};
+use naga::back::glsl;
+use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+fn parse_and_validate(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
+    let module =
+        naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    // WebGL2 and baseline WebGPU: no optional capabilities.
+    let info = Validator::new(ValidationFlags::all(), Capabilities::empty())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    (module, info)
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn skin_shader_validates_and_has_the_entry_points_the_renderer_binds() {
+    let (module, _) = parse_and_validate(SKIN_WGSL);
+    let mut names: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["fs_main", "vs_geomorph", "vs_level"]);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn skin_shader_translates_to_webgl2_glsl() {
+    let (module, info) = parse_and_validate(SKIN_WGSL);
+    let options = glsl::Options {
+        version: glsl::Version::Embedded { version: 300, is_webgl: true },
+        ..glsl::Options::default()
+    };
+    for entry in &module.entry_points {
+        let pipeline = glsl::PipelineOptions {
+            shader_stage: entry.stage,
+            entry_point: entry.name.clone(),
+            multiview: None,
+        };
+        let mut out = String::new();
+        let mut writer = glsl::Writer::new(
+            &mut out,
+            &module,
+            &info,
+            &options,
+            &pipeline,
+            naga::proc::BoundsCheckPolicies::default(),
+        )
+        .unwrap_or_else(|e| panic!("{}: {e}", entry.name));
+        writer.write().unwrap_or_else(|e| panic!("{}: {e}", entry.name));
+        assert!(out.starts_with("#version 300 es"), "{}", entry.name);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn uniform_structs_match_their_rust_mirrors() {
+    let (module, _) = parse_and_validate(SKIN_WGSL);
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    for (name, rust_size) in MIRRORS {
+        let (handle, _) = module
+            .types
+            .iter()
+            .find(|(_, ty)| ty.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("skin.wgsl has no struct {name}"));
+        assert_eq!(layouter[handle].size as usize, rust_size, "size of {name} in WGSL vs its Rust mirror");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn joint_cap_is_the_same_in_rust_and_wgsl() {
+    let (module, _) = parse_and_validate(SKIN_WGSL);
+    let value = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some("MAX_JOINTS"))
+        .map(|(_, c)| &module.global_expressions[c.init])
+        .expect("skin.wgsl declares MAX_JOINTS");
+    assert_eq!(*value, naga::Expression::Literal(naga::Literal::U32(MAX_JOINTS as u32)));
+    // WebGL2 guarantees 16 KiB per uniform block: the joint block must fit.
+    assert!(MAX_JOINTS * 64 <= 16 * 1024);
+}
