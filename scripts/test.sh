@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: formatting, lints (native and wasm32), native tests, the same tests under node
-# (wasm-pack test --node), and the JavaScript API from node. Installs missing tools first.
+# (wasm-pack test --node), the JavaScript API from node, and the viewer in headless Chromium.
+# Installs missing tools first (Rust target, wasm-bindgen-cli, wasm-pack, npm packages, Debian chromium).
 # Fails if any suite — or any test file within one — ran zero tests.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
@@ -22,6 +23,7 @@ cargo fmt --all --check
 step "clippy (native, all targets; wasm32 library with the JS API)"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
+cargo clippy --lib --target "$target" --features "$(manifest webgl.features)" -- -D warnings
 
 step "the core builds without the JS layer (native and wasm32)"
 cargo check --lib --no-default-features
@@ -42,6 +44,11 @@ step "JavaScript API from node (wasm-pack build --target nodejs)"
 build_wasm node
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
+
+step "browser tests: the viewer in headless Chromium (WebGPU and WebGL2 on SwiftShader)"
+ensure_chromium
+bash scripts/browser-test.sh 2>&1 | tee "$logs/browser.log"
+node scripts/count-tests.mjs browser "$logs/browser.log" "$summary"
 
 echo
 awk '{p += $2; f += $3} END {printf "total: %d passed, %d failed\n", p, f}' "$summary"
