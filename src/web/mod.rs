@@ -189,6 +189,9 @@ impl Viewer {
     /// Draws the current frame again offscreen and resolves to `{ width, height, data }` (RGBA8,
     /// sRGB, top row first). Nothing else may be called on the viewer until it resolves.
     #[wasm_bindgen(js_name = readPixels)]
+    // The borrow is held across the readback on purpose: it keeps `frame` and the setters out
+    // (they get a "busy" error from `try_borrow_mut`) until the copy is read.
+    #[allow(clippy::await_holding_refcell_ref)]
     pub fn read_pixels(&self) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
@@ -207,6 +210,7 @@ impl Viewer {
     }
 
     /// Resolves when the GPU has finished all submitted frames (for timing).
+    #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: the viewer stays locked meanwhile
     pub fn finish(&self) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {

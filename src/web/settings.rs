@@ -197,7 +197,7 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
         let text = || value.as_string().ok_or_else(|| format!("{key} must be a string, got {value:?}"));
         match key.as_str() {
             "paused" => {
-                u.paused = Some(value.as_bool().ok_or_else(|| format!("paused must be true or false"))?)
+                u.paused = Some(value.as_bool().ok_or_else(|| "paused must be true or false".to_string())?)
             }
             "time" => u.time = Some(number(0.0, 1e9)?),
             "speed" => u.speed = Some(number(0.0, 10.0)? as f32),
