@@ -19,7 +19,7 @@ build_wasm webgl
 node scripts/page-size.mjs
 
 log="$(mktemp)"
-MODELS_DIR="$root/../shared/models" PORT=0 node scripts/serve.mjs >"$log" 2>&1 &
+MODELS_DIR="$root/../shared/models" SITE_PREFIX=/docs/v1/ PORT=0 node scripts/serve.mjs >"$log" 2>&1 &
 server=$!
 trap 'kill "$server" 2>/dev/null || true; rm -f "$log"' EXIT
 for _ in $(seq 100); do

@@ -1,5 +1,7 @@
 // Static file server on 127.0.0.1: www/ at /, the repository's assets/ at /assets/, and, when
 // MODELS_DIR is set (the browser tests point it at ../shared/models), that folder at /models/.
+// SITE_PREFIX (e.g. /docs/v1/) serves www/ and assets/ there too, as a docs site hosting the
+// viewer under a path would (the tests check the element finds its files relative to itself).
 // Honours PORT (0 picks a free port); prints the page's URL once it listens. Serves .wasm as
 // application/wasm (needed for streaming compilation) and never leaves those folders.
 import { createServer } from 'node:http';
@@ -10,6 +12,8 @@ import { fileURLToPath } from 'node:url';
 const repo = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const mounts = [['/assets/', join(repo, 'assets')]];
 if (process.env.MODELS_DIR) mounts.push(['/models/', resolve(process.env.MODELS_DIR)]);
+const prefix = process.env.SITE_PREFIX;
+if (prefix) mounts.push([`${prefix}assets/`, join(repo, 'assets')], [prefix, join(repo, 'www')]);
 mounts.push(['/', join(repo, 'www')]);
 const port = Number(process.env.PORT ?? 8080);
 const types = {

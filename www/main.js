@@ -1,135 +1,111 @@
-// Bootstrap and DOM wiring only: loading, LOD, schedule, camera and drawing live in the Rust
-// `Viewer` (src/web/). This file picks the wasm build (WebGPU, or the WebGL2 fallback), sizes the
-// canvas, forwards controls to `viewer.setState`, and copies `viewer.state()` into the labels.
+// The viewer page: DOM wiring around one <clod-viewer> (www/clod-viewer.js). Loading, LOD,
+// schedule, camera and drawing live in the Rust `Viewer`; this file forwards the controls to
+// `setState`, shows the numbers, opens dropped or picked files, keeps the view in the URL, and
+// saves screenshots.
 //
-// URL parameters: ?backend=webgpu|webgl2 forces a backend; ?model=URL loads another .glb;
-// ?test=1 draws only on request and exposes window.__clod for the browser tests.
+// URL parameters: model (a .glb URL), clip, t (animation seconds; the page starts paused there),
+// mode (the views' methods, e.g. `pop+blend+morph`), backend (webgpu | webgl2), variant,
+// tolerance, distance (× framing; turns the dolly off), lod (continuous triangle count);
+// test=1 draws only on request and exposes window.__clod for the browser tests.
 
 const params = new URLSearchParams(location.search);
 const testMode = params.get('test') === '1';
 const html = document.documentElement;
-const canvas = document.getElementById('views');
+const viewer = document.getElementById('viewer');
 const status = document.getElementById('status');
-const alert = document.getElementById('error');
-const labels = [...document.querySelectorAll('.label')];
+const stats = document.getElementById('stats');
 const controls = document.getElementById('controls');
-const readout = document.getElementById('readout');
 const $ = (id) => document.getElementById(id);
 
-let viewer = null;
-let wasm = null;
-let backend = null;
+let loaded = false;
+let clips = [];
+let spike = null;
+let transitionSeen = false;
+let measuring = false;
 
-function showError(message) {
-  alert.textContent = message;
-  alert.hidden = false;
-}
+// --- start-up from the URL ----------------------------------------------------------------------
 
-async function webgpuWorks() {
-  if (!('gpu' in navigator)) return false;
-  try { return (await navigator.gpu.requestAdapter()) !== null; } catch { return false; }
-}
+if (testMode) viewer.setAttribute('manual-frames', '');
+if (params.get('backend')) viewer.setAttribute('backend', params.get('backend'));
+if (params.get('mode')) viewer.setAttribute('modes', params.get('mode'));
+if (params.get('clip')) viewer.setAttribute('clip', params.get('clip'));
+if (params.get('variant')) viewer.setAttribute('variant', params.get('variant'));
+if (params.get('tolerance')) viewer.setAttribute('tolerance', params.get('tolerance'));
+if (params.has('t') || testMode) viewer.removeAttribute('autoplay');
+if (params.get('model')) viewer.setAttribute('src', params.get('model'));
 
-// Loads the wasm build for `which` ('webgpu' → pkg/, 'webgl2' → pkg-webgl/).
-async function loadBuild(which) {
-  const module = await import(which === 'webgpu' ? './pkg/clod_viewer.js' : './pkg-webgl/clod_viewer.js');
-  await module.default();
-  return module;
-}
-
-// Canvas size in CSS pixels: three square views side by side, or stacked on narrow screens.
-function sizeCanvas() {
-  const width = canvas.parentElement.clientWidth;
-  const stacked = width < 640;
-  const height = stacked ? 3 * width : Math.round(width / 3);
-  canvas.style.height = `${height}px`;
-  const dpr = window.devicePixelRatio || 1;
-  const w = Math.max(1, Math.round(width * dpr));
-  const h = Math.max(1, Math.round(height * dpr));
-  if (canvas.width !== w || canvas.height !== h) {
-    canvas.width = w;
-    canvas.height = h;
-    viewer?.resize(w, h);
+viewer.addEventListener('progress', (e) => {
+  const { phase, fraction } = e.detail;
+  if (!loaded || html.dataset.state === 'loading') {
+    status.textContent = `${{ fetch: 'Downloading', build: 'Building the LOD chain', gpu: 'Starting the GPU', ready: 'Ready' }[phase]}… ${Math.round(100 * fraction)} %`;
   }
-}
+});
 
-function updateLabels() {
-  const state = viewer.state();
-  const dpr = canvas.width / canvas.clientWidth || 1;
-  state.views.forEach((view, i) => {
-    const label = labels[i];
-    const [x, y, w] = view.rect;
-    label.style.left = `${x / dpr}px`;
-    label.style.top = `${y / dpr}px`;
-    label.style.maxWidth = `${w / dpr}px`;
-    label.dataset.level = view.level;
-    label.dataset.triangles = view.triangles;
-    label.dataset.t = view.t.toFixed(3);
-    label.dataset.method = view.method;
-    const t = view.t > 0 ? ` → ${view.level + 1}, t = ${view.t.toFixed(2)}` : '';
-    label.querySelector('.detail').textContent =
-      `level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
-  });
-  if (state.errors.length) showError(state.errors.join('\n'));
-  const levels = state.levels.map((l, i) => `${i}: ${l.triangles}`).join(', ');
-  readout.textContent = `${state.backend} (${state.adapter}), ${state.format}, MSAA ${state.msaa}× · ` +
-    `distance ${state.distance.toFixed(2)}× · levels ${levels} · LOD chain built in ${state.buildMs} ms` +
-    (state.warnings.length ? ` · ${state.warnings.join('; ')}` : '');
-  return state;
-}
-
-async function fetchModel(url) {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
-  return new Uint8Array(await response.arrayBuffer());
-}
-
-// Creates the viewer for `bytes`, falling back to WebGL2 when WebGPU fails (unless forced).
-async function createViewer(bytes) {
-  const forced = params.get('backend');
-  if (forced && forced !== 'webgpu' && forced !== 'webgl2') {
-    throw new Error(`?backend=${forced}: use webgpu or webgl2`);
-  }
-  const order = forced ? [forced] : (await webgpuWorks()) ? ['webgpu', 'webgl2'] : ['webgl2'];
-  const failures = [];
-  for (const which of order) {
-    try {
-      if (backend !== which) { wasm = await loadBuild(which); backend = which; }
-      return await wasm.Viewer.create(canvas, bytes, { backend: which });
-    } catch (e) {
-      failures.push(`${which}: ${e.message ?? e}`);
-    }
-  }
-  const none = forced ? `${forced} does not work here` : 'Neither WebGPU nor WebGL2 works in this browser';
-  throw new Error(`${none} (${failures.join('; ')})`);
-}
-
-async function start(name, bytes) {
-  html.dataset.state = 'loading';
-  alert.hidden = true;
-  status.textContent = `Building the LOD chain of ${name}…`;
-  viewer?.free();
-  viewer = null;
-  sizeCanvas();
-  viewer = await createViewer(bytes);
-  setupControls(viewer.state());
-  viewer.frame(performance.now());
-  await viewer.finish();
-  const state = updateLabels();
-  if (state.errors.length) throw new Error(state.errors.join('\n'));
-  status.textContent = `${name}: ${state.triangles.toLocaleString()} triangles, ${state.joints} joints, ` +
+viewer.addEventListener('load', (e) => {
+  const state = e.detail;
+  const first = !loaded;
+  loaded = true;
+  spike = null;
+  transitionSeen = false;
+  setupControls(state, first);
+  if (first) applyUrlState();
+  status.textContent = `${state.name}: ${state.triangles.toLocaleString()} triangles, ${state.joints} joints, ` +
     `drawn with ${state.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}.`;
   html.dataset.state = 'ready';
+  showStats();
+});
+
+viewer.addEventListener('error', (e) => {
+  // A failed replacement leaves the previous model playing: the page stays ready.
+  if (!loaded) {
+    html.dataset.state = 'error';
+    status.textContent = 'The viewer could not start.';
+  }
+  html.dataset.lastError = e.detail.message;
+});
+
+function applyUrlState() {
+  const state = {};
+  if (params.has('t')) { state.time = Number(params.get('t')); state.paused = true; }
+  if (params.has('distance')) { state.distanceMode = 'manual'; state.distance = Number(params.get('distance')); }
+  if (params.has('lod')) state.continuousTriangles = Number(params.get('lod'));
+  try {
+    viewer.setState(state);
+  } catch (e) {
+    status.textContent = `Ignored a URL parameter: ${e.message}`;
+  }
+  syncControls(viewer.state());
 }
+
+// --- controls -----------------------------------------------------------------------------------
 
 function set(state) {
-  try { viewer?.setState(state); } catch (e) { showError(e.message); }
+  try {
+    viewer.setState(state);
+    writeUrl();
+  } catch (e) {
+    status.textContent = e.message;
+  }
 }
 
-function setupControls(state) {
+function setupControls(state, first) {
   controls.hidden = false;
-  $('clip').replaceChildren(...state.clips.map((c) => new Option(c, c)));
-  $('continuous').max = 1;
+  clips = state.clips.map((name, i) => ({ name, duration: state.clipDurations[i] }));
+  $('clip').replaceChildren(...clips.map((c, i) => new Option(c.name, i)));
+  $('clip').disabled = clips.length === 0;
+  $('measure').disabled = false;
+  if (!first) { $('continuous-on').checked = false; $('continuous').disabled = true; $('continuous-out').textContent = ''; }
+  syncControls(state);
+}
+
+// Puts the controls where the viewer's state says (after a load, the URL or a camera gesture).
+function syncControls(state) {
+  if (state.clip !== null) $('clip').value = state.clip;
+  $('play').textContent = state.paused ? 'Play' : 'Pause';
+  $('play').setAttribute('aria-pressed', String(state.paused));
+  $('dolly').checked = state.distanceMode === 'dolly';
+  $('distance').value = Math.log(Math.max(1, state.distance)) / Math.log(100);
+  $('distance-out').textContent = `${state.distance.toFixed(1)}×`;
 }
 
 // Log-scale sliders: 0..1 maps to lo..hi geometrically.
@@ -137,86 +113,199 @@ const logScale = (x, lo, hi) => lo * (hi / lo) ** x;
 
 function wireControls() {
   $('play').addEventListener('click', () => {
-    const paused = $('play').textContent === 'Pause';
-    $('play').textContent = paused ? 'Play' : 'Pause';
+    const paused = !viewer.state().paused;
     set({ paused });
+    syncControls(viewer.state());
   });
-  $('clip').addEventListener('change', (e) => set({ clip: e.target.value }));
-  $('speed').addEventListener('input', (e) => set({ speed: Number(e.target.value) }));
-  for (const radio of document.querySelectorAll('[name=distanceMode]')) {
-    radio.addEventListener('change', (e) => set({ distanceMode: e.target.value }));
-  }
+  $('clip').addEventListener('change', (e) => set({ clip: clips[Number(e.target.value)].name, time: 0 }));
+  $('scrub').addEventListener('input', (e) => {
+    const clip = clips[viewer.state().clip];
+    if (clip) set({ time: Number(e.target.value) * clip.duration, paused: true });
+    syncControls(viewer.state());
+  });
+  $('speed').addEventListener('input', (e) => {
+    $('speed-out').textContent = `${Number(e.target.value).toFixed(2)}×`;
+    set({ speed: Number(e.target.value) });
+  });
+  $('dolly').addEventListener('change', (e) => set({ distanceMode: e.target.checked ? 'dolly' : 'manual' }));
   $('distance').addEventListener('input', (e) => {
     const d = logScale(Number(e.target.value), 1, 100);
-    $('distance-out').textContent = `${d.toFixed(1)}×`;
-    document.querySelector('[name=distanceMode][value=manual]').checked = true;
-    set({ distance: d });
+    set({ distanceMode: 'manual', distance: d });
+    syncControls(viewer.state());
   });
-  $('yaw').addEventListener('input', (e) => set({ yaw: Number(e.target.value) }));
+  $('reset-camera').addEventListener('click', () => { set({ resetCamera: true }); syncControls(viewer.state()); });
   $('tolerance').addEventListener('input', (e) => {
     $('tolerance-out').textContent = `${e.target.value} px`;
     set({ tolerance: Number(e.target.value) });
   });
-  $('hysteresis').addEventListener('input', (e) => set({ hysteresis: Number(e.target.value) }));
   $('transition').addEventListener('change', (e) => set({ transition: e.target.value }));
-  $('duration').addEventListener('input', (e) => set({ duration: Number(e.target.value) }));
+  $('duration').addEventListener('input', (e) => {
+    $('duration-out').textContent = `${e.target.value} s`;
+    set({ duration: Number(e.target.value) });
+  });
   $('zone').addEventListener('input', (e) => set({ zone: Number(e.target.value) }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
+  $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
   const continuous = () => {
     const on = $('continuous-on').checked;
     $('continuous').disabled = !on;
-    const max = viewer?.state().maxTriangles ?? 0;
+    const max = viewer.state().maxTriangles;
     const triangles = on ? Math.max(1, Math.round(logScale(Number($('continuous').value), 16, Math.max(16, max)))) : null;
     set({ continuousTriangles: triangles });
-    $('continuous-out').textContent = on ? `${viewer.state().continuousTriangles} triangles` : '';
+    $('continuous-out').textContent = on ? `${viewer.state().continuousTriangles.toLocaleString()} triangles` : '';
   };
   $('continuous-on').addEventListener('change', continuous);
   $('continuous').addEventListener('input', continuous);
-  $('file').addEventListener('change', async (event) => {
-    const file = event.target.files[0];
-    if (!file) return;
-    try {
-      await start(file.name, new Uint8Array(await file.arrayBuffer()));
-    } catch (e) {
-      html.dataset.state = 'error';
-      showError(`Could not show ${file.name}: ${e.message ?? e}`);
-    }
+  $('file').addEventListener('change', (e) => openFiles([...e.target.files]));
+  $('screenshot').addEventListener('click', screenshot);
+  $('measure').addEventListener('click', measureSpike);
+  $('share').addEventListener('click', async () => {
+    writeUrl();
+    try { await navigator.clipboard.writeText(location.href); status.textContent = 'Link copied.'; } catch { status.textContent = location.href; }
+  });
+  viewer.addEventListener('camerachange', () => { syncControls(viewer.state()); writeUrl(); });
+}
+
+// --- files --------------------------------------------------------------------------------------
+
+/**
+ * Opens picked or dropped files: one `.glb`, or one `.gltf` with the buffers and images it names
+ * (matched by file name).
+ */
+async function openFiles(files) {
+  const main = files.find((f) => /\.(glb|gltf)$/i.test(f.name)) ?? (files.length === 1 ? files[0] : null);
+  if (!main) {
+    showFailure(`No .glb or .gltf among ${files.map((f) => f.name).join(', ')}`);
+    return;
+  }
+  const resources = new Map();
+  for (const f of files) if (f !== main) resources.set(f.name, new Uint8Array(await f.arrayBuffer()));
+  status.textContent = `Opening ${main.name}…`;
+  try {
+    await viewer.load({ name: main.name, bytes: new Uint8Array(await main.arrayBuffer()), resources });
+    params.delete('model');
+    writeUrl();
+  } catch (e) {
+    showFailure(e.message ?? String(e));
+  }
+}
+
+function showFailure(message) {
+  status.textContent = loaded ? 'That file could not be shown; the previous model is still playing.' : 'The viewer could not start.';
+  html.dataset.lastError = message;
+  const alert = viewer.querySelector('[role=alert]');
+  alert.textContent = message;
+  alert.hidden = false;
+}
+
+function wireDrop() {
+  const hint = $('drop-hint');
+  let depth = 0;
+  document.addEventListener('dragenter', (e) => { e.preventDefault(); depth++; hint.hidden = false; });
+  document.addEventListener('dragleave', () => { if (--depth <= 0) { depth = 0; hint.hidden = true; } });
+  document.addEventListener('dragover', (e) => e.preventDefault());
+  document.addEventListener('drop', (e) => {
+    e.preventDefault();
+    depth = 0;
+    hint.hidden = true;
+    openFiles([...e.dataTransfer.files]);
   });
 }
 
-function loop(now) {
-  if (viewer) {
-    try {
-      viewer.frame(now);
-      updateLabels();
-    } catch (e) {
-      showError(e.message ?? String(e));
-    }
+// --- numbers, URL, screenshot, pop spike -----------------------------------------------------------
+
+function showStats() {
+  if (!loaded) return;
+  const s = viewer.state();
+  const levels = s.levels.map((l, i) => `${i}: ${l.triangles.toLocaleString()}`).join(' · ');
+  const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()} (level ${v.level}${v.t > 0 ? `, t ${v.t.toFixed(2)}` : ''})`).join(' · ');
+  const rows = [
+    ['Drawn', views],
+    ['Levels', levels],
+    ['LOD build', `${Math.round(s.buildMs)} ms${s.builtOffMainThread ? ' (worker)' : ''}`],
+    ['Frame', viewer.frameMs ? `${viewer.frameMs.toFixed(1)} ms` : '–'],
+    ['Backend', `${s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'} · ${s.adapter} · MSAA ${s.msaa}×`],
+    ['Pop spike', spike ? formatSpike(spike) : transitionSeen || measuring ? 'measuring…' : 'after the first transition'],
+  ];
+  if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
+  stats.replaceChildren(...rows.flatMap(([k, v]) => [Object.assign(document.createElement('dt'), { textContent: k }), Object.assign(document.createElement('dd'), { textContent: v })]));
+  const clip = clips[s.clip];
+  if (clip && clip.duration > 0 && document.activeElement !== $('scrub')) {
+    $('scrub').value = (s.animTime % clip.duration) / clip.duration;
+    $('scrub-out').textContent = `${(s.animTime % clip.duration).toFixed(2)} s`;
   }
-  requestAnimationFrame(loop);
+  if (!transitionSeen && s.views.some((v) => v.t > 0)) {
+    transitionSeen = true;
+    if (!testMode) setTimeout(measureSpike, 1000);
+  }
+}
+
+function formatSpike(r) {
+  const pop = r.popping;
+  const pct = (x) => (pop > 0 ? ` (${((100 * x) / pop).toFixed(0)} %)` : '');
+  return `popping ${pop.toFixed(2)}, alpha-blend ${r.alpha.toFixed(2)}${pct(r.alpha)}, geomorph ${r.geomorph.toFixed(2)}${pct(r.geomorph)} — largest frame-to-frame change, mean |ΔRGB| per pixel`;
+}
+
+async function measureSpike() {
+  if (measuring || !loaded) return;
+  measuring = true;
+  $('measure').disabled = true;
+  try {
+    spike = await viewer.measurePopSpike();
+  } catch (e) {
+    status.textContent = `Pop spike: ${e.message ?? e}`;
+  } finally {
+    measuring = false;
+    $('measure').disabled = false;
+    showStats();
+  }
+}
+
+let urlTimer = 0;
+function writeUrl() {
+  clearTimeout(urlTimer);
+  urlTimer = setTimeout(() => {
+    if (!loaded) return;
+    const s = viewer.state();
+    const next = new URLSearchParams();
+    if (params.get('model')) next.set('model', params.get('model'));
+    if (s.clip !== null && clips[s.clip]) next.set('clip', clips[s.clip].name);
+    next.set('t', s.animTime.toFixed(2));
+    next.set('mode', s.views.map((v) => ({ popping: 'pop', alpha: 'blend', geomorph: 'morph' }[v.method])).join('+'));
+    if (params.get('backend')) next.set('backend', params.get('backend'));
+    if (s.distanceMode === 'manual') next.set('distance', s.distance.toFixed(2));
+    if (s.continuousTriangles) next.set('lod', s.continuousTriangles);
+    if (testMode) next.set('test', '1');
+    history.replaceState(null, '', `?${next.toString().replaceAll('%2B', '+')}`);
+  }, 300);
+}
+
+async function screenshot() {
+  try {
+    const blob = await viewer.screenshot();
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `clod-viewer-${new Date().toISOString().slice(0, 19).replaceAll(':', '-')}.png`;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+  } catch (e) {
+    status.textContent = `Screenshot: ${e.message ?? e}`;
+  }
 }
 
 // The browser tests' hook: deterministic frames on request, pixels read back by the renderer.
 function exposeTestHook() {
   window.__clod = {
     setState: (state) => viewer.setState(state),
-    renderFrame: (nowMs) => { viewer.frame(nowMs); return updateLabels(); },
+    renderFrame: (nowMs) => viewer.renderFrame(nowMs),
     readPixels: () => viewer.readPixels(),
     finish: () => viewer.finish(),
     state: () => viewer.state(),
-    load: (name, bytes) => start(name, bytes),
+    load: (name, bytes) => viewer.load({ name, bytes, resources: null }),
   };
 }
 
 wireControls();
-new ResizeObserver(() => { if (viewer) { sizeCanvas(); } }).observe(canvas.parentElement);
+wireDrop();
 if (testMode) exposeTestHook();
-const modelUrl = params.get('model') ?? 'assets/character.glb';
-try {
-  await start(modelUrl.split('/').pop(), await fetchModel(modelUrl));
-  if (!testMode) requestAnimationFrame(loop);
-} catch (e) {
-  html.dataset.state = 'error';
-  status.textContent = 'The viewer could not start.';
-  showError(e.message ?? String(e));
-}
+if (!testMode) setInterval(showStats, 250);

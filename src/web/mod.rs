@@ -15,6 +15,7 @@ use std::rc::Rc;
 
 use glam::{Mat4, Vec3};
 use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
 
 use crate::character::Character;
 use crate::clod::{self, Clod, ClodOptions};
@@ -61,6 +62,8 @@ struct Inner {
     errors: Vec<String>,
     warnings: Vec<String>,
     build_ms: f64,
+    /// Whether the LOD chain came from `options.clod` (a worker) rather than this thread.
+    built_off_main_thread: bool,
 }
 
 fn js_error(e: impl std::fmt::Display) -> JsError {
@@ -69,14 +72,20 @@ fn js_error(e: impl std::fmt::Display) -> JsError {
 
 #[wasm_bindgen]
 impl Viewer {
-    /// Loads a `.glb`, builds its LOD chain and starts the renderer on `canvas`.
-    /// `options.backend` is `"webgpu"` (default) or `"webgl2"` (the `webgl` build only).
+    /// Loads a character, builds (or takes) its LOD chain and starts the renderer on `canvas`.
     ///
-    /// Rejects with an `Error` naming the problem: a file the importer refuses, no adapter or
-    /// device for the backend, too many joints, an undecodable texture.
+    /// `bytes` is a `.glb`, or a `.gltf`'s JSON whose external buffers and images come from
+    /// `options.resolve(uri) → Uint8Array | null`. Other options: `backend`, `"webgpu"` (default)
+    /// or `"webgl2"` (the `webgl` build only); `clod`, the bytes of `Character.buildClodBytes` for
+    /// this same file (built in a worker, so the page never freezes), with `buildMs` its build
+    /// time; without `clod` the chain is built here, on the calling thread.
+    ///
+    /// Rejects with an `Error` naming the problem: a file the importer refuses, LOD bytes that do
+    /// not belong to this file, no adapter or device for the backend, too many joints, an
+    /// undecodable texture.
     pub async fn create(
         canvas: web_sys::HtmlCanvasElement,
-        glb: Vec<u8>,
+        bytes: Vec<u8>,
         options: JsValue,
     ) -> Result<Viewer, JsError> {
         let backend = settings::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
@@ -88,20 +97,38 @@ impl Viewer {
                 return Err(JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\"")))
             }
         };
-        let character = import::from_glb(&glb).map_err(js_error)?;
-        let mut warnings = character.warnings.clone();
-        let started = js_sys::Date::now();
-        let (clod, lod) = match clod::build(&character, &ClodOptions::default(), &mut |_| {}) {
-            Ok(c) => {
-                let lod = LodSource::from_clod(&character, &c);
-                (Some(c), lod)
-            }
-            Err(e) => {
-                warnings.push(format!("no LOD chain ({e}); showing the full mesh only"));
-                (None, LodSource::full_mesh(&character))
-            }
+        let resolve = settings::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
+        let mut resolver = |uri: &str| -> Option<Vec<u8>> {
+            let value = resolve.as_ref()?.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
+            let array = value.dyn_into::<js_sys::Uint8Array>().ok()?;
+            Some(array.to_vec())
         };
-        let build_ms = js_sys::Date::now() - started;
+        let character = import::from_bytes(&bytes, &mut resolver).map_err(js_error)?;
+        let mut warnings = character.warnings.clone();
+        let prebuilt = settings::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
+        let built_off_main_thread = prebuilt.is_some();
+        let started = js_sys::Date::now();
+        let clod = match prebuilt {
+            Some(encoded) => Some(
+                clod::bytes::decode(&encoded.to_vec(), &character)
+                    .map_err(|e| JsError::new(&format!("the LOD chain built in the worker does not fit: {e}")))?,
+            ),
+            None => match clod::build(&character, &ClodOptions::default(), &mut |_| {}) {
+                Ok(c) => Some(c),
+                Err(e) => {
+                    warnings.push(format!("no LOD chain ({e}); showing the full mesh only"));
+                    None
+                }
+            },
+        };
+        let lod = match &clod {
+            Some(c) => LodSource::from_clod(&character, c),
+            None => LodSource::full_mesh(&character),
+        };
+        let build_ms = match settings::get(&options, "buildMs").and_then(|v| v.as_f64()) {
+            Some(ms) if built_off_main_thread => ms,
+            _ => js_sys::Date::now() - started,
+        };
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(js_error)?;
         let (center, radius) = rest_sphere(&character);
         let framing = camera::framing_distance(radius);
@@ -121,7 +148,7 @@ impl Viewer {
             camera,
             framing,
             distance: framing,
-            layout: layout(w, h),
+            layout: layout(w, h, 3),
             plans: [empty.clone(), empty.clone(), empty],
             camera_raw: CameraRaw::zeroed(),
             skin: Vec::new(),
@@ -129,6 +156,7 @@ impl Viewer {
             errors: Vec::new(),
             warnings,
             build_ms,
+            built_off_main_thread,
         };
         Ok(Viewer { inner: Rc::new(RefCell::new(inner)) })
     }
@@ -149,7 +177,8 @@ impl Viewer {
         let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
         inner.renderer.resize(width, height);
         let (w, h) = inner.renderer.size();
-        inner.layout = layout(w, h);
+        let count = inner.settings.view_count;
+        inner.layout = layout(w, h, count);
         Ok(())
     }
 
@@ -158,7 +187,7 @@ impl Viewer {
     /// (`"dolly"|"manual"`), `distance` (× framing distance), `dollyPeriod`, `yaw` (degrees),
     /// `tolerance` (pixels), `hysteresis` (fraction), `transition` (`"time"|"distance"`),
     /// `duration` (seconds per level), `zone` (fraction), `variant`
-    /// (`"naive"|"opaque-first"|"dither"`), `methods` (three of
+    /// (`"naive"|"opaque-first"|"dither"`), `methods` (one to three of
     /// `"popping"|"alpha"|"geomorph"`), `continuousTriangles` (number, or null for off).
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
@@ -172,6 +201,9 @@ impl Viewer {
             inner.set_continuous(triangles);
         }
         update.apply(&mut inner.settings);
+        let (w, h) = inner.renderer.size();
+        let count = inner.settings.view_count;
+        inner.layout = layout(w, h, count);
         Ok(())
     }
 
@@ -311,7 +343,7 @@ impl Inner {
             .iter()
             .map(|l| format!("{{\"triangles\":{},\"error\":{}}}", l.triangle_count(), num(l.error)))
             .collect();
-        let views: Vec<String> = (0..3)
+        let views: Vec<String> = (0..s.view_count)
             .map(|i| {
                 let plan = &self.plans[i];
                 let r = self.layout.views[i];
@@ -341,8 +373,8 @@ impl Inner {
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
-                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},",
-                "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},",
+                "\"selected\":{},\"coordinate\":{},\"distanceMode\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -356,12 +388,18 @@ impl Inner {
             self.character.mesh.triangle_count(),
             self.character.skeleton.joints.len(),
             list(&self.character.clips.iter().map(|c| c.name.clone()).collect::<Vec<_>>()),
+            self.character.clips.iter().map(|c| num(c.duration())).collect::<Vec<_>>().join(","),
             s.clip.map_or("null".to_string(), |c| c.to_string()),
             levels.join(","),
             switch.join(","),
             num(self.build_ms as f32),
+            self.built_off_main_thread,
             self.schedule.selected,
             num(self.schedule.coordinate),
+            json_str(match s.distance_mode {
+                DistanceMode::Dolly => "dolly",
+                DistanceMode::Manual => "manual",
+            }),
             num(self.distance / self.framing),
             num(self.anim_time as f32),
             s.paused,

@@ -31,8 +31,11 @@ pub struct Settings {
     pub hysteresis: f32,
     pub transition: TransitionMode,
     pub variant: BlendVariant,
-    /// Method of each view, left to right (top to bottom when stacked).
+    /// Method of each view, left to right (top to bottom when stacked); only the first
+    /// `view_count` are shown.
     pub methods: [Method; 3],
+    /// How many views the canvas shows (1..=3).
+    pub view_count: usize,
     /// Triangle count of the continuous level drawn by every view, when on.
     pub continuous_triangles: Option<u32>,
 }
@@ -58,6 +61,7 @@ impl Default for Settings {
             transition: TransitionMode::Time { seconds_per_level: 0.5 },
             variant,
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
+            view_count: 3,
             continuous_triangles: None,
         }
     }
@@ -80,7 +84,8 @@ pub struct Update {
     pub duration: Option<f32>,
     pub zone: Option<f32>,
     pub variant: Option<BlendVariant>,
-    pub methods: Option<[Method; 3]>,
+    /// The methods of the first views and how many views there are.
+    pub methods: Option<([Method; 3], usize)>,
     /// `Some(None)` turns the continuous level off.
     pub continuous_triangles: Option<Option<u32>>,
 }
@@ -123,8 +128,9 @@ impl Update {
         } else {
             TransitionMode::Time { seconds_per_level: seconds }
         };
-        if let Some(methods) = self.methods {
+        if let Some((methods, count)) = self.methods {
             s.methods = methods;
+            s.view_count = count;
         }
         if let Some(v) = self.variant {
             s.variant = v;
@@ -144,6 +150,15 @@ pub fn method_name(m: Method) -> &'static str {
         Method::AlphaBlend(_) => "alpha",
         Method::Geomorph => "geomorph",
     }
+}
+
+/// `obj[key]`, when `obj` is an object and the value is neither `undefined` nor `null`.
+pub fn get(obj: &JsValue, key: &str) -> Option<JsValue> {
+    if !obj.is_object() {
+        return None;
+    }
+    let value = js_sys::Reflect::get(obj, &key.into()).ok()?;
+    (!value.is_undefined() && !value.is_null()).then_some(value)
 }
 
 /// `obj[key]` as a string, when it is one.
@@ -241,12 +256,13 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "variant" => u.variant = Some(parse_variant(&text()?)?),
             "methods" => {
                 let array: js_sys::Array =
-                    value.clone().dyn_into().map_err(|_| "methods must be an array of three names")?;
-                if array.length() != 3 {
-                    return Err(format!("methods must name three views, got {}", array.length()));
+                    value.clone().dyn_into().map_err(|_| "methods must be an array of one to three names")?;
+                let count = array.length() as usize;
+                if !(1..=3).contains(&count) {
+                    return Err(format!("methods must name one to three views, got {count}"));
                 }
                 let mut methods = [Method::Popping; 3];
-                for (i, m) in methods.iter_mut().enumerate() {
+                for (i, m) in methods.iter_mut().enumerate().take(count) {
                     *m = match array.get(i as u32).as_string().as_deref() {
                         Some("popping") => Method::Popping,
                         Some("alpha") => Method::AlphaBlend(BlendVariant::OpaqueFirst),
@@ -258,7 +274,7 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                         }
                     };
                 }
-                u.methods = Some(methods);
+                u.methods = Some((methods, count));
             }
             "continuousTriangles" => {
                 u.continuous_triangles =

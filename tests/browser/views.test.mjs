@@ -1,7 +1,7 @@
 // (1) The page starts, says which backend runs, and all three views show the character.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, foregroundFraction, savePng } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, foregroundFraction, savePng, baseUrl } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -28,13 +28,23 @@ test('every view shows the character, labelled with its level, triangles and t',
   }
   assert.match(await page.locator('#status').textContent(), /WebGPU/);
   assert.equal(await page.locator('[role=alert]').isHidden(), true);
-  const largest = await page.$$eval('canvas', (cs) => cs.sort((a, b) => b.width * b.height - a.width * a.height)[0].id);
-  assert.equal(largest, 'views');
+  const largest = await page.$$eval('canvas', (cs) => cs.sort((a, b) => b.width * b.height - a.width * a.height)[0].parentElement.id);
+  assert.equal(largest, 'viewer');
 });
 
 test('a file that is not a glTF is reported in the alert, not thrown away', async () => {
   const page = await openPage(browser);
   await page.setInputFiles('#file', { name: 'broken.glb', mimeType: 'model/gltf-binary', buffer: Buffer.from('not a glb') });
-  await page.waitForFunction(() => document.documentElement.dataset.state === 'error');
+  await page.waitForFunction(() => document.documentElement.dataset.lastError !== undefined);
   assert.match(await page.locator('[role=alert]').textContent(), /broken\.glb/);
+  assert.equal(await page.locator('[role=alert]').isVisible(), true);
+});
+
+test('a model URL that does not exist leaves the page in the error state with a message', async () => {
+  const page = await browser.newPage();
+  const params = new URLSearchParams({ test: '1', model: '/models/no-such-model.glb' });
+  await page.goto(`${baseUrl}?${params}`);
+  await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 60_000 });
+  assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'error');
+  assert.match(await page.locator('[role=alert]').textContent(), /no-such-model\.glb: HTTP 404/);
 });

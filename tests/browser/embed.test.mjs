@@ -1,0 +1,128 @@
+// Embedding (issue 6): the docs example page with two <clod-viewer> elements, the iframe target
+// embed.html, lazy loading, pausing off screen, and the element's events and methods.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync } from 'node:fs';
+import { launch, baseUrl, crop, foregroundFraction } from './helpers.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+// Opens `path` and records every <clod-viewer>'s events from the start.
+async function open(path, viewport = { width: 1000, height: 700 }) {
+  const page = await browser.newPage({ viewport, deviceScaleFactor: 1 });
+  const logs = [];
+  page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));
+  page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
+  await page.addInitScript(() => {
+    window.__events = [];
+    for (const type of ['progress', 'load', 'error']) {
+      document.addEventListener(type, (e) => {
+        if (e.target.localName === 'clod-viewer') window.__events.push({ id: e.target.id, type, detail: type === 'load' ? { triangles: e.detail.triangles } : e.detail });
+      }, true);
+    }
+  });
+  await page.goto(new URL(path, baseUrl).href);
+  page.logs = logs;
+  return page;
+}
+
+const events = (page, id) => page.evaluate((id) => window.__events.filter((e) => !id || e.id === id), id);
+
+async function waitLoaded(page, id) {
+  try {
+    await page.waitForFunction((id) => window.__events.some((e) => e.id === id && (e.type === 'load' || e.type === 'error')), id, { timeout: 180_000 });
+  } catch (e) {
+    throw new Error(`${id} never loaded: ${page.logs.join('\n')}`);
+  }
+  const outcome = (await events(page, id)).find((e) => e.type !== 'progress');
+  assert.equal(outcome.type, 'load', JSON.stringify(outcome.detail));
+}
+
+// The share of non-background pixels in each of an element's views, paused at `time`.
+async function viewCoverage(page, id, time = 0.4) {
+  const { state, pixels } = await page.evaluate(async ([id, time]) => {
+    const el = document.getElementById(id);
+    el.pause();
+    el.setTime(time);
+    const state = el.renderFrame(performance.now());
+    const p = await el.readPixels();
+    return { state, pixels: { width: p.width, height: p.height, data: Array.from(p.data) } };
+  }, [id, time]);
+  pixels.data = Uint8Array.from(pixels.data);
+  return { state, coverage: state.views.map((v) => foregroundFraction(crop(pixels, v.rect))) };
+}
+
+test('the docs example renders both embedded viewers, lazily, each with its own clip and modes', async () => {
+  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+  await waitLoaded(page, 'walk');
+  // The second viewer is below the fold: nothing of it has started.
+  assert.deepEqual(await events(page, 'wave'), []);
+  await page.locator('#wave').scrollIntoViewIfNeeded();
+  await waitLoaded(page, 'wave');
+  const walk = await viewCoverage(page, 'walk');
+  const wave = await viewCoverage(page, 'wave');
+  assert.deepEqual(walk.state.views.map((v) => v.method), ['popping', 'alpha', 'geomorph']);
+  assert.deepEqual(wave.state.views.map((v) => v.method), ['popping', 'geomorph']);
+  assert.equal(walk.state.clips[walk.state.clip], 'Walk');
+  assert.equal(wave.state.clips[wave.state.clip], 'Wave');
+  for (const [id, c] of [['walk', walk.coverage], ['wave', wave.coverage]]) {
+    c.forEach((f, i) => assert.ok(f > 0.02, `${id} view ${i} is blank (${f})`));
+  }
+  const text = await page.locator('article').textContent();
+  assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
+});
+
+test('progress events arrive in order and end at 1; play, pause and setTime drive the clock', async () => {
+  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+  await waitLoaded(page, 'walk');
+  const progress = (await events(page, 'walk')).filter((e) => e.type === 'progress').map((e) => e.detail);
+  const fractions = progress.map((p) => p.fraction);
+  assert.deepEqual(fractions, [...fractions].sort((a, b) => a - b));
+  assert.equal(fractions.at(-1), 1);
+  assert.equal(progress.at(-1).phase, 'ready');
+  const clock = await page.evaluate(async () => {
+    const el = document.getElementById('walk');
+    el.pause();
+    el.setTime(0.75);
+    const paused = el.state().animTime;
+    el.play();
+    const t0 = el.state().animTime;
+    await new Promise((r) => setTimeout(r, 1500));
+    return { paused, t0, t1: el.state().animTime };
+  });
+  assert.ok(Math.abs(clock.paused - 0.75) < 1e-6);
+  assert.ok(clock.t1 > clock.t0, `the clock did not run after play(): ${JSON.stringify(clock)}`);
+});
+
+test('an element scrolled off screen stops drawing', async () => {
+  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+  await waitLoaded(page, 'walk');
+  await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
+  await page.waitForTimeout(300);
+  const a = await page.evaluate(() => document.getElementById('walk').state().frames);
+  await page.waitForTimeout(1500);
+  const b = await page.evaluate(() => document.getElementById('walk').state().frames);
+  assert.equal(b, a, 'frames were drawn while off screen');
+  await page.locator('#walk').scrollIntoViewIfNeeded();
+  await page.waitForFunction((a) => document.getElementById('walk').state().frames > a, a, { timeout: 30_000 });
+});
+
+test('embed.html shows a shared model without page chrome, hosted under any path', async () => {
+  if (!existsSync(new URL('../../../shared/models/Fox.glb', import.meta.url))) {
+    if (process.env.CI === 'true') throw new Error('../shared/models/Fox.glb is missing, and CI needs the shared models');
+    console.log('skipping: ../shared/models/Fox.glb is missing');
+    return;
+  }
+  const page = await open('docs/v1/embed.html?model=/models/Fox.glb&clip=Walk&modes=blend+morph&paused=1', { width: 640, height: 320 });
+  await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 180_000 });
+  assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'ready', page.logs.join('\n'));
+  assert.equal(await page.locator('h1, form, header').count(), 0);
+  await page.evaluate(() => { document.querySelector('clod-viewer').id = 'embedded'; });
+  const { state, coverage } = await viewCoverage(page, 'embedded', 0.3);
+  assert.equal(state.triangles, 576);
+  assert.equal(state.clips[state.clip], 'Walk');
+  assert.deepEqual(state.views.map((v) => v.method), ['alpha', 'geomorph']);
+  coverage.forEach((f, i) => assert.ok(f > 0.01, `view ${i} is blank (${f})`));
+});

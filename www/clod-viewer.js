@@ -1,0 +1,582 @@
+// The `<clod-viewer>` custom element: one canvas with the three views (popping | alpha-blending |
+// geomorphing) of a skinned glTF character, for the viewer page and for any documentation page.
+//
+//   <script type="module" src="…/clod-viewer.js"></script>
+//   <clod-viewer src="model.glb" clip="Walk" modes="pop blend morph" autoplay loading="lazy"></clod-viewer>
+//
+// DOM wiring only: loading, LOD, schedule, camera and drawing live in the Rust `Viewer` (src/web/).
+// This file finds its wasm builds relative to its own URL (so a docs site can host it under any
+// path), picks WebGPU or the WebGL2 fallback, builds the LOD chain in a Web Worker
+// (clod-worker.js, the same wasm) so the page never freezes, sizes the canvas from CSS, turns
+// mouse, touch and keyboard input into camera settings, and copies `viewer.state()` into labels.
+//
+// Attributes: src (default: the built-in character), clip, modes (`pop blend morph`, one to three,
+// in order), variant (`opaque-first | naive | dither`), tolerance (pixels), backend
+// (`webgpu | webgl2`), autoplay (absent: paused at t = 0), loading (`lazy`: nothing is fetched
+// before the element is scrolled into view; GPU work always waits for that), manual-frames (draw
+// only on `renderFrame`, for tests).
+// Events: `progress` (detail `{ phase, fraction }`, fraction rising to 1 across the phases
+// `fetch`, `build`, `gpu`, `ready`), `load` (detail: the viewer's state), `error` (detail
+// `{ message }`). Methods: play(), pause(), setTime(seconds), setState({...}), state(),
+// load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike().
+
+const here = new URL('.', import.meta.url);
+const DEFAULT_SRC = new URL('assets/character.glb', here).href;
+const MODE_NAMES = { pop: 'popping', popping: 'popping', blend: 'alpha', alpha: 'alpha', morph: 'geomorph', geomorph: 'geomorph' };
+const METHOD_LABELS = { popping: 'popping', alpha: 'alpha-blending', geomorph: 'geomorphing' };
+
+// Where each phase's progress lands on the overall 0..1 bar (the build dominates).
+const PHASES = { fetch: [0, 0.1], build: [0.1, 0.85], gpu: [0.85, 1], ready: [1, 1] };
+
+// --- wasm builds, shared by every element of the page ---------------------------------------
+
+const builds = new Map();
+
+/** Loads (once) the wasm build of `backend` (`webgpu` → pkg/, `webgl2` → pkg-webgl/). */
+export function loadBuild(backend) {
+  if (!builds.has(backend)) {
+    const url = new URL(backend === 'webgpu' ? 'pkg/clod_viewer.js' : 'pkg-webgl/clod_viewer.js', here).href;
+    builds.set(backend, import(url).then(async (module) => { await module.default(); return { module, url }; }));
+    builds.get(backend).catch(() => builds.delete(backend));
+  }
+  return builds.get(backend);
+}
+
+let adapterCheck = null;
+/** Whether this browser hands out a WebGPU adapter (asked once per page). */
+export function webgpuWorks() {
+  adapterCheck ??= (async () => {
+    if (!('gpu' in navigator)) return false;
+    try { return (await navigator.gpu.requestAdapter()) !== null; } catch { return false; }
+  })();
+  return adapterCheck;
+}
+
+// --- the LOD build in a worker ---------------------------------------------------------------
+
+let worker = null;
+let workerBroken = false;
+const jobs = new Map();
+let nextJob = 1;
+
+function buildWorker() {
+  if (worker || workerBroken) return worker;
+  try {
+    worker = new Worker(new URL('clod-worker.js', here), { type: 'module' });
+  } catch {
+    workerBroken = true;
+    return null;
+  }
+  worker.onmessage = ({ data }) => {
+    const job = jobs.get(data.id);
+    if (!job) return;
+    if (data.type === 'progress') { job.onProgress(data.fraction); return; }
+    jobs.delete(data.id);
+    if (data.type === 'done') job.resolve(data);
+    else job.reject(new Error(data.message));
+  };
+  worker.onerror = (e) => {
+    // A worker that cannot start (no module workers): build on the main thread from now on.
+    workerBroken = true;
+    worker = null;
+    for (const job of jobs.values()) job.reject(Object.assign(new Error(e.message || 'worker failed'), { workerFailed: true }));
+    jobs.clear();
+  };
+  return worker;
+}
+
+/**
+ * Builds the LOD chain of `source` off the main thread. Resolves to `{ clod: Uint8Array,
+ * buildMs }`, or to null when no worker can run (the caller then builds inline).
+ */
+function buildOffMainThread(moduleUrl, source, onProgress) {
+  const w = buildWorker();
+  if (!w) return Promise.resolve(null);
+  const id = nextJob++;
+  return new Promise((resolve, reject) => {
+    jobs.set(id, { resolve, reject, onProgress });
+    w.postMessage({ id, moduleUrl, name: source.name, bytes: source.bytes, resources: source.resources });
+  }).catch((e) => { if (e.workerFailed) return null; throw e; });
+}
+
+/** A `.gltf`'s resolver: the URI as written, else its last path segment (files dropped together). */
+export function resolverFor(resources) {
+  return (uri) => resources?.get(uri) ?? resources?.get(decodeURIComponent(uri.split('/').pop())) ?? null;
+}
+
+// --- the element ---------------------------------------------------------------------------------
+
+const STYLE = `
+clod-viewer { display: block; position: relative; aspect-ratio: 3 / 1; min-height: 120px; contain: layout paint; }
+clod-viewer > canvas { display: block; position: absolute; inset: 0; width: 100%; height: 100%;
+  background: #8a96a6; touch-action: none; }
+clod-viewer > canvas:focus-visible { outline: 3px solid Highlight; outline-offset: -3px; }
+clod-viewer > .clod-label { position: absolute; padding: 0.15rem 0.45rem; font: 0.8rem system-ui, sans-serif; color: #fff;
+  background: rgb(0 0 0 / 0.45); border-radius: 0 0 0.3rem 0; pointer-events: none; white-space: nowrap;
+  overflow: hidden; text-overflow: ellipsis; font-variant-numeric: tabular-nums; }
+clod-viewer > .clod-progress { position: absolute; left: 10%; right: 10%; top: 50%; height: 0.5rem; margin: 0; }
+clod-viewer > .clod-alert { position: absolute; inset: auto 0 0 0; margin: 0; padding: 0.4rem 0.6rem;
+  font: 600 0.85rem system-ui, sans-serif; color: #fff; background: rgb(150 30 20 / 0.9); }
+clod-viewer > [hidden] { display: none; }
+`;
+
+function installStyle() {
+  if (document.getElementById('clod-viewer-style')) return;
+  const style = document.createElement('style');
+  style.id = 'clod-viewer-style';
+  style.textContent = STYLE;
+  document.head.append(style);
+}
+
+/** The methods of a `modes` attribute (`pop blend morph`), in order; throws on an unknown word. */
+export function parseModes(text) {
+  const words = text.trim().split(/[\s,+]+/).filter(Boolean);
+  const methods = words.map((w) => {
+    const m = MODE_NAMES[w.toLowerCase()];
+    if (!m) throw new Error(`modes: unknown mode "${w}" (use pop, blend, morph)`);
+    return m;
+  });
+  if (methods.length < 1 || methods.length > 3) throw new Error(`modes: give one to three of pop, blend, morph (got "${text}")`);
+  return methods;
+}
+
+export class ClodViewerElement extends HTMLElement {
+  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay'];
+
+  #canvas = null;
+  #labels = [];
+  #bar = null;
+  #alert = null;
+  #viewer = null;
+  #backend = null;
+  #visible = false;
+  #source = null; // { name, bytes, resources } of the model shown (or being loaded)
+  #pending = null; // the load in progress
+  #frameId = 0;
+  #progress = 0;
+  #lastFrameMs = 0;
+  #frameMs = 0;
+  #observers = [];
+  #pointers = new Map();
+
+  connectedCallback() {
+    if (!this.#canvas) this.#buildDom();
+    const io = new IntersectionObserver((entries) => {
+      this.#visible = entries.at(-1).isIntersecting;
+      if (this.#visible) this.#startWhenVisible();
+      this.#schedule();
+    });
+    io.observe(this);
+    const ro = new ResizeObserver(() => this.#resize());
+    ro.observe(this);
+    this.#observers = [io, ro];
+    if (this.getAttribute('loading') !== 'lazy') this.#prepare();
+  }
+
+  disconnectedCallback() {
+    for (const o of this.#observers) o.disconnect();
+    this.#observers = [];
+    cancelAnimationFrame(this.#frameId);
+    this.#frameId = 0;
+  }
+
+  attributeChangedCallback(name, old, value) {
+    if (old === value || !this.#viewer) return;
+    if (name === 'src') { this.#source = null; this.#pending = null; this.#prepare(); this.#startWhenVisible(); return; }
+    try {
+      this.setState(this.#attributeState(name));
+    } catch (e) {
+      this.#fail(e);
+    }
+  }
+
+  // --- public API ---
+
+  /** The canvas the views are drawn on. */
+  get canvas() { return this.#canvas; }
+  /** `webgpu` or `webgl2` once loaded. */
+  get backend() { return this.#backend; }
+  /** Mean time between drawn frames, ms (0 before two frames). */
+  get frameMs() { return this.#frameMs; }
+  play() { this.setState({ paused: false }); }
+  pause() { this.setState({ paused: true }); }
+  /** Moves the animation clock to `seconds`. */
+  setTime(seconds) { this.setState({ time: Number(seconds) }); }
+  /** Changes viewer settings (see the README's list of keys); throws on an unknown key or bad value. */
+  setState(state) { this.#requireViewer().setState(state); this.#schedule(); }
+  /** What the views show: levels, triangles, t, backend, … (see the README). */
+  state() { return this.#requireViewer().state(); }
+  /** Draws one frame at `nowMs` (for `manual-frames`) and returns the state. */
+  renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
+  /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */
+  readPixels() { return this.#requireViewer().readPixels(); }
+  /** Resolves when the GPU has finished the submitted frames. */
+  finish() { return this.#requireViewer().finish(); }
+  /** Measures each view's largest frame-to-frame change through one LOD switch. */
+  measurePopSpike(options = {}) { return this.#requireViewer().measurePopSpike(options); }
+
+  /** A PNG of the current frame with the views' labels. */
+  async screenshot() {
+    const { width, height, data } = await this.readPixels();
+    const canvas = document.createElement('canvas');
+    canvas.width = width;
+    canvas.height = height;
+    const ctx = canvas.getContext('2d');
+    ctx.putImageData(new ImageData(new Uint8ClampedArray(data.buffer, data.byteOffset, data.length), width, height), 0, 0);
+    const dpr = width / this.#canvas.clientWidth || 1;
+    ctx.font = `${Math.round(13 * dpr)}px system-ui, sans-serif`;
+    ctx.textBaseline = 'top';
+    for (const label of this.#labels) {
+      if (label.hidden) continue;
+      const x = label.offsetLeft * dpr;
+      const y = label.offsetTop * dpr;
+      const text = label.textContent;
+      ctx.fillStyle = 'rgb(0 0 0 / 0.45)';
+      ctx.fillRect(x, y, ctx.measureText(text).width + 12 * dpr, 20 * dpr);
+      ctx.fillStyle = '#fff';
+      ctx.fillText(text, x + 6 * dpr, y + 3 * dpr);
+    }
+    return new Promise((resolve, reject) => canvas.toBlob((b) => (b ? resolve(b) : reject(new Error('PNG encoding failed'))), 'image/png'));
+  }
+
+  /**
+   * Shows another model: `{ name, bytes: Uint8Array, resources?: Map<name, Uint8Array> }` (a
+   * `.gltf`'s buffers and images). Resolves with the new state; on failure it rejects, shows the
+   * error, and the previous model keeps playing.
+   */
+  load(source) {
+    this.#source = source;
+    this.#pending = null;
+    return this.#prepare(true);
+  }
+
+  // --- loading ---
+
+  #buildDom() {
+    installStyle();
+    this.#canvas = document.createElement('canvas');
+    this.#canvas.tabIndex = 0;
+    this.#canvas.setAttribute('aria-label', 'LOD transitions of an animated character. Drag to orbit, shift-drag or two fingers to pan, wheel or pinch to zoom; arrow keys orbit, shift+arrows pan, + and − zoom, 0 resets the camera.');
+    this.#bar = document.createElement('progress');
+    this.#bar.className = 'clod-progress';
+    this.#bar.max = 1;
+    this.#bar.value = 0;
+    this.#alert = document.createElement('p');
+    this.#alert.className = 'clod-alert';
+    this.#alert.setAttribute('role', 'alert');
+    this.#alert.hidden = true;
+    this.#labels = [0, 1, 2].map((i) => {
+      const label = document.createElement('div');
+      label.className = 'clod-label label';
+      label.dataset.view = i;
+      label.hidden = true;
+      return label;
+    });
+    this.append(this.#canvas, ...this.#labels, this.#bar, this.#alert);
+    this.#wireInput();
+  }
+
+  #emit(type, detail) { this.dispatchEvent(new CustomEvent(type, { detail })); }
+
+  #reportProgress(phase, fraction) {
+    const [lo, hi] = PHASES[phase];
+    const overall = Math.max(this.#progress, lo + (hi - lo) * Math.min(1, Math.max(0, fraction)));
+    this.#progress = overall;
+    this.#bar.value = overall;
+    this.#emit('progress', { phase, fraction: overall });
+  }
+
+  // Fetches and builds the current source (once); the GPU part waits for visibility.
+  #prepare(replace = false) {
+    if (this.#pending) return this.#pending;
+    this.#progress = 0;
+    this.#bar.hidden = false;
+    this.#bar.value = 0;
+    let showGpu;
+    const visible = new Promise((resolve) => { showGpu = resolve; });
+    const pending = (async () => {
+      const { module, url, backend, fallbacks } = await this.#chooseBuild();
+      this.#source ??= await this.#fetchSource(this.getAttribute('src') || DEFAULT_SRC);
+      const source = this.#source;
+      this.#reportProgress('fetch', 1);
+      const built = await buildOffMainThread(url, source, (f) => this.#reportProgress('build', f));
+      this.#reportProgress('build', 1);
+      await visible;
+      try {
+        return await this.#createViewer(module, backend, source, built);
+      } catch (e) {
+        // WebGPU has an adapter but no usable device (or the surface fails): the WebGL2 build.
+        // The LOD bytes are the same whichever build made them.
+        if (!fallbacks.length || !e.gpu) throw e;
+        const fallback = await loadBuild(fallbacks[0]);
+        try {
+          return await this.#createViewer(fallback.module, fallbacks[0], source, built);
+        } catch (e2) {
+          throw new Error(`Neither WebGPU nor WebGL2 works here (${e.message}; ${e2.message})`);
+        }
+      }
+    })();
+    pending.showGpu = showGpu;
+    this.#pending = pending;
+    const done = pending.then((state) => {
+      this.#bar.hidden = true;
+      this.#alert.hidden = true;
+      this.#reportProgress('ready', 1);
+      this.#emit('load', state);
+      this.#schedule();
+      return state;
+    }, (e) => {
+      if (this.#pending === pending) this.#pending = null;
+      this.#bar.hidden = true;
+      this.#fail(e);
+      throw e;
+    });
+    if (this.#visible) showGpu();
+    if (!replace) done.catch(() => {});
+    return done;
+  }
+
+  #startWhenVisible() {
+    if (!this.#pending && !this.#viewer) this.#prepare();
+    if (this.#visible) this.#pending?.showGpu();
+  }
+
+  async #chooseBuild() {
+    const forced = this.getAttribute('backend');
+    if (forced && forced !== 'webgpu' && forced !== 'webgl2') throw new Error(`backend="${forced}": use webgpu or webgl2`);
+    const order = forced ? [forced] : (await webgpuWorks()) ? ['webgpu', 'webgl2'] : ['webgl2'];
+    const failures = [];
+    for (const backend of order) {
+      try {
+        return { ...(await loadBuild(backend)), backend, fallbacks: order.slice(order.indexOf(backend) + 1) };
+      } catch (e) {
+        failures.push(`${backend}: ${e.message ?? e}`);
+      }
+    }
+    throw new Error(`could not load the viewer's wasm (${failures.join('; ')})`);
+  }
+
+  async #fetchSource(src) {
+    const url = new URL(src, document.baseURI);
+    const response = await fetch(url);
+    if (!response.ok) throw new Error(`${url.pathname.split('/').pop()}: HTTP ${response.status}`);
+    const total = Number(response.headers.get('content-length')) || 0;
+    const chunks = [];
+    let received = 0;
+    const reader = response.body.getReader();
+    for (;;) {
+      const { done, value } = await reader.read();
+      if (done) break;
+      chunks.push(value);
+      received += value.length;
+      if (total) this.#reportProgress('fetch', received / total);
+    }
+    const bytes = new Uint8Array(received);
+    let at = 0;
+    for (const c of chunks) { bytes.set(c, at); at += c.length; }
+    return { name: decodeURIComponent(url.pathname.split('/').pop()), bytes, resources: null };
+  }
+
+  // Creates the viewer on a fresh canvas and swaps it in only when it works, so a model that
+  // fails leaves the previous one playing.
+  async #createViewer(module, backend, source, built) {
+    const canvas = this.#canvas.cloneNode();
+    delete canvas.dataset.wired;
+    const [w, h] = this.#pixelSize();
+    canvas.width = w;
+    canvas.height = h;
+    const options = { backend, resolve: resolverFor(source.resources) };
+    if (built) { options.clod = built.clod; options.buildMs = built.buildMs; }
+    this.#reportProgress('gpu', 0);
+    let viewer;
+    try {
+      viewer = await module.Viewer.create(canvas, source.bytes, options);
+    } catch (e) {
+      // The file was imported and built in the worker already: what fails here is the GPU.
+      throw Object.assign(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), { gpu: Boolean(built) });
+    }
+    this.#reportProgress('gpu', 0.5);
+    try {
+      viewer.setState(this.#initialState());
+    } catch (e) {
+      viewer.free();
+      throw new Error(`Could not show ${source.name}: ${e.message ?? e}`);
+    }
+    this.#viewer?.free();
+    this.#viewer = viewer;
+    this.#backend = backend;
+    this.#canvas.replaceWith(canvas);
+    this.#canvas = canvas;
+    this.#wireInput();
+    viewer.frame(performance.now());
+    await viewer.finish();
+    this.#pending = null;
+    const state = this.#updateLabels();
+    state.name = source.name;
+    return state;
+  }
+
+  #initialState() {
+    const state = { paused: !this.hasAttribute('autoplay') };
+    for (const name of ['clip', 'modes', 'variant', 'tolerance']) {
+      if (this.hasAttribute(name)) Object.assign(state, this.#attributeState(name));
+    }
+    return state;
+  }
+
+  #attributeState(name) {
+    const value = this.getAttribute(name);
+    switch (name) {
+      case 'clip': return { clip: value };
+      case 'modes': return { methods: parseModes(value ?? 'pop blend morph') };
+      case 'variant': return { variant: value };
+      case 'tolerance': return { tolerance: Number(value) };
+      case 'autoplay': return { paused: value === null };
+      default: return {};
+    }
+  }
+
+  #fail(e) {
+    const message = e?.message ?? String(e);
+    this.#alert.textContent = message;
+    this.#alert.hidden = false;
+    this.#emit('error', { message });
+  }
+
+  #requireViewer() {
+    if (!this.#viewer) throw new Error('the viewer has not loaded yet');
+    return this.#viewer;
+  }
+
+  // --- drawing ---
+
+  #pixelSize() {
+    const dpr = window.devicePixelRatio || 1;
+    return [Math.max(1, Math.round(this.clientWidth * dpr)), Math.max(1, Math.round(this.clientHeight * dpr))];
+  }
+
+  #resize() {
+    const [w, h] = this.#pixelSize();
+    if (!this.#viewer || (this.#canvas.width === w && this.#canvas.height === h)) return;
+    this.#canvas.width = w;
+    this.#canvas.height = h;
+    this.#viewer.resize(w, h);
+    this.#schedule();
+  }
+
+  // Runs the frame loop while the element is on screen and the tab visible.
+  #schedule() {
+    if (this.#frameId || !this.#viewer || !this.#visible || this.hasAttribute('manual-frames')) return;
+    this.#frameId = requestAnimationFrame((now) => this.#tick(now));
+  }
+
+  #tick(now) {
+    this.#frameId = 0;
+    if (!this.#viewer || !this.#visible || !this.isConnected) return;
+    if (this.#lastFrameMs) this.#frameMs += 0.1 * (now - this.#lastFrameMs - this.#frameMs);
+    this.#lastFrameMs = now;
+    try {
+      this.#viewer.frame(now);
+      this.#updateLabels();
+    } catch (e) {
+      // "viewer busy": a readback is running; draw again next frame.
+      if (!String(e.message).includes('busy')) this.#fail(e);
+    }
+    this.#schedule();
+  }
+
+  #updateLabels() {
+    const state = this.#viewer.state();
+    const dpr = this.#canvas.width / this.#canvas.clientWidth || 1;
+    this.#labels.forEach((label, i) => {
+      const view = state.views[i];
+      label.hidden = !view;
+      if (!view) return;
+      const [x, y, w] = view.rect;
+      label.style.left = `${x / dpr}px`;
+      label.style.top = `${y / dpr}px`;
+      label.style.maxWidth = `${w / dpr}px`;
+      label.dataset.method = view.method;
+      label.dataset.level = view.level;
+      label.dataset.triangles = view.triangles;
+      label.dataset.t = view.t.toFixed(3);
+      const t = view.t > 0 ? ` → ${view.level + 1}, t = ${view.t.toFixed(2)}` : '';
+      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
+    });
+    if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
+    return state;
+  }
+
+  // --- camera input: drag orbits, shift-drag / two fingers pan, wheel / pinch zoom, keys ---
+
+  #camera(update) {
+    if (!this.#viewer) return;
+    const s = this.#viewer.state();
+    const next = {};
+    if (update.yaw || update.pitch) {
+      next.yaw = ((s.yaw + (update.yaw ?? 0) + 540) % 360) - 180;
+      next.pitch = s.pitch + (update.pitch ?? 0);
+    }
+    if (update.pan) next.pan = [s.pan[0] + update.pan[0], s.pan[1] + update.pan[1]];
+    if (update.zoom) { next.distanceMode = 'manual'; next.distance = Math.min(100, Math.max(0.2, s.distance * update.zoom)); }
+    if (update.reset) next.resetCamera = true;
+    this.setState(next);
+    this.dispatchEvent(new CustomEvent('camerachange'));
+  }
+
+  #wireInput() {
+    const canvas = this.#canvas;
+    if (canvas.dataset.wired) return;
+    canvas.dataset.wired = '1';
+    const DEGREES_PER_PIXEL = 0.4;
+    canvas.addEventListener('pointerdown', (e) => {
+      canvas.setPointerCapture(e.pointerId);
+      this.#pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    });
+    const up = (e) => this.#pointers.delete(e.pointerId);
+    canvas.addEventListener('pointerup', up);
+    canvas.addEventListener('pointercancel', up);
+    canvas.addEventListener('pointermove', (e) => {
+      const last = this.#pointers.get(e.pointerId);
+      if (!last) return;
+      const dx = e.clientX - last.x;
+      const dy = e.clientY - last.y;
+      if (this.#pointers.size === 2) {
+        const [a, b] = [...this.#pointers.values()];
+        const other = a === last ? b : a;
+        const before = Math.hypot(last.x - other.x, last.y - other.y);
+        const after = Math.hypot(e.clientX - other.x, e.clientY - other.y);
+        const viewHeight = canvas.clientHeight / (this.#viewer?.state().stacked ? 3 : 1);
+        if (before > 0 && after > 0) this.#camera({ zoom: before / after, pan: [-dx / viewHeight, dy / viewHeight] });
+      } else if (e.shiftKey || e.buttons === 4 || e.buttons === 2) {
+        const viewHeight = canvas.clientHeight / (this.#viewer?.state().stacked ? 3 : 1);
+        this.#camera({ pan: [-dx / viewHeight, dy / viewHeight] });
+      } else {
+        this.#camera({ yaw: -dx * DEGREES_PER_PIXEL, pitch: dy * DEGREES_PER_PIXEL });
+      }
+      last.x = e.clientX;
+      last.y = e.clientY;
+    });
+    canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+    canvas.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      this.#camera({ zoom: Math.exp(e.deltaY * 0.001) });
+    }, { passive: false });
+    canvas.addEventListener('keydown', (e) => {
+      const step = e.shiftKey ? 0.05 : 5;
+      const keys = {
+        ArrowLeft: e.shiftKey ? { pan: [-step, 0] } : { yaw: -step },
+        ArrowRight: e.shiftKey ? { pan: [step, 0] } : { yaw: step },
+        ArrowUp: e.shiftKey ? { pan: [0, step] } : { pitch: step },
+        ArrowDown: e.shiftKey ? { pan: [0, -step] } : { pitch: -step },
+        '+': { zoom: 1 / 1.1 }, '=': { zoom: 1 / 1.1 }, '-': { zoom: 1.1 }, '0': { reset: true }, Home: { reset: true },
+      };
+      const update = keys[e.key];
+      if (!update) return;
+      e.preventDefault();
+      this.#camera(update);
+    });
+  }
+}
+
+if (!customElements.get('clod-viewer')) customElements.define('clod-viewer', ClodViewerElement);
