@@ -582,7 +582,8 @@ fn check_character(clod: &Clod, character: &Character) -> Result<()> {
     if total < n {
         return Err(inconsistent("positions", total, "fewer positions than input vertices"));
     }
-    let attributes = total.checked_mul(pm.attribute_count).unwrap_or(usize::MAX);
+    // Saturating: no array read from the bytes can be usize::MAX long, so an overflow mismatches.
+    let attributes = total.saturating_mul(pm.attribute_count);
     expect_len("attributes", pm.attributes.len(), attributes)?;
     for (field, len) in [
         ("parent", pm.parent.len()),
