@@ -92,7 +92,7 @@ type Result<T> = std::result::Result<T, ClodBytesError>;
 pub fn encode(clod: &Clod) -> Vec<u8> {
     let pm = &clod.apm.pm;
     let apm = &clod.apm;
-    let mut w = Writer { out: Vec::with_capacity(encoded_size_hint(clod)) };
+    let mut w = Writer { out: Vec::new() };
     w.out.extend_from_slice(&MAGIC);
     w.u32(FORMAT_VERSION);
 
@@ -176,35 +176,6 @@ pub fn encode(clod: &Clod) -> Vec<u8> {
         w.u32s(&level.ancestors);
     }
     w.out
-}
-
-/// Bytes [`encode`] writes, to allocate once: the arrays' elements plus a bound on the headers,
-/// prefixes and clip name.
-fn encoded_size_hint(clod: &Clod) -> usize {
-    let pm = &clod.apm.pm;
-    // Position, 4 forest ids, bind position and normal, joints, weights; uv and colour if any.
-    let per_vertex = 12
-        + 4 * 4
-        + 12
-        + 12
-        + 8
-        + 16
-        + clod.apm.uvs.as_ref().map_or(0, |_| 8)
-        + clod.apm.colors.as_ref().map_or(0, |_| 16);
-    let levels: usize =
-        clod.levels.iter().map(|l| 4 * (l.indices.len() + l.vertices.len() + l.ancestors.len())).sum();
-    let clip = match &clod.pose {
-        SimplificationPose::ClipFrame { clip, .. } => clip.len(),
-        _ => 0,
-    };
-    256 + clip
-        + pm.vertex_total() * per_vertex
-        + 4 * pm.attributes.len()
-        + 4 * (pm.indices.len() + pm.triangle_source.len())
-        + COLLAPSE_BYTES * pm.collapses.len()
-        + CORNER_CHANGE_BYTES * pm.corner_changes.len()
-        + levels
-        + MIN_LEVEL_BYTES * clod.levels.len()
 }
 
 struct Writer {
