@@ -147,6 +147,44 @@ impl Character {
             clod::build(&self.inner, &options, &mut progress).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Clod { character: Rc::clone(&self.inner), clod: built, build_ms: now_ms() - started })
     }
+
+    /// Builds the chain like [`Character::build_clod`] and returns it encoded (the format of
+    /// `clod::bytes`, starting with `"CLOD"`), for a Web Worker to transfer to the page, which
+    /// decodes it against its own import of the same file.
+    ///
+    /// `options` are those of `buildClod`; `onProgress(fraction)` (optional, or `options.onProgress`
+    /// when absent) is called with non-decreasing fractions from 0, ending with exactly 1 once the
+    /// bytes are ready.
+    ///
+    /// Throws on malformed options, an `onProgress` that is not a function, or a mesh that cannot
+    /// be simplified.
+    #[wasm_bindgen(js_name = buildClodBytes)]
+    pub fn build_clod_bytes(&self, options: JsValue, on_progress: JsValue) -> Result<Vec<u8>, JsError> {
+        let (options, from_options) = parse_clod_options(&options, &self.inner)?;
+        let on_progress = if on_progress.is_undefined() || on_progress.is_null() {
+            from_options
+        } else {
+            Some(
+                on_progress
+                    .dyn_into::<js_sys::Function>()
+                    .map_err(|_| JsError::new("onProgress must be a function"))?,
+            )
+        };
+        let report = |fraction: f64| {
+            if let Some(f) = &on_progress {
+                let _ = f.call1(&JsValue::NULL, &JsValue::from_f64(fraction));
+            }
+        };
+        // The build reports 0..1; encoding is one linear pass over the chain, a few percent of
+        // the build's time, so it gets the last 5 % and the final 1 means "bytes ready".
+        const BUILD_SHARE: f64 = 0.95;
+        let mut progress = |fraction: f32| report(f64::from(fraction) * BUILD_SHARE);
+        let built =
+            clod::build(&self.inner, &options, &mut progress).map_err(|e| JsError::new(&e.to_string()))?;
+        let bytes = clod::bytes::encode(&built);
+        report(1.0);
+        Ok(bytes)
+    }
 }
 
 impl Character {

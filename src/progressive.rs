@@ -95,7 +95,7 @@ pub struct CornerChange {
 
 /// A progressive mesh: the input mesh, the collapse forest over vertex ids, and the data to move
 /// between levels. See the module docs for the conventions.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ProgressiveMesh {
     /// Position of every vertex id (input vertices first).
     pub positions: Vec<Vec3>,
@@ -125,7 +125,8 @@ pub struct ProgressiveMesh {
     pub stop: StopReason,
     /// Live slots before any collapse (input vertices some triangle uses).
     pub base_vertex_count: u32,
-    corner_changes: Vec<CornerChange>,
+    /// Private so that only the simplifier and the validated decoder (`clod::bytes`) fill it.
+    pub(crate) corner_changes: Vec<CornerChange>,
 }
 
 impl ProgressiveMesh {
@@ -310,6 +311,11 @@ impl ProgressiveMesh {
     /// The corner changes of all steps; step `k`'s are the range in its [`CollapseRecord`].
     pub fn corner_change(&self, index: usize) -> CornerChange {
         self.corner_changes[index]
+    }
+
+    /// Every corner change, in step order.
+    pub fn corner_changes(&self) -> &[CornerChange] {
+        &self.corner_changes
     }
 
     /// A cursor at level 0 (the full mesh).

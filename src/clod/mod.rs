@@ -12,6 +12,7 @@
 //!
 //! Positions are in the character's units; errors are distances in those units.
 
+pub mod bytes;
 pub mod chain;
 pub mod poses;
 
@@ -78,7 +79,7 @@ pub enum ClodError {
 }
 
 /// The progressive mesh with bind-space data for every vertex id (input and created).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ArticulatedPm {
     /// Positions (`pm.positions`) are in the simplification pose `P0`.
     pub pm: ProgressiveMesh,
@@ -94,7 +95,7 @@ pub struct ArticulatedPm {
 }
 
 /// An articulated progressive mesh and its discrete levels.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Clod {
     pub apm: ArticulatedPm,
     /// Finest first; level `i`'s ancestor table points into level `i + 1`.

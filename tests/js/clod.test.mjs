@@ -64,3 +64,33 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   assert.throws(() => fox.buildClod({ onProgress: 3 }), /onProgress/);
   fox.free();
 });
+
+test('buildClodBytes: progress in order ending at 1, bytes that start with "CLOD"', (t) => {
+  const bytes = modelBytes('RiggedSimple.glb');
+  if (!bytes) return t.skip('model missing');
+  const character = api.Character.fromGlb(bytes);
+  const progress = [];
+  const started = performance.now();
+  const encoded = character.buildClodBytes({ levels: [892, 400, 100] }, (f) => progress.push(f));
+  const bytesMs = performance.now() - started;
+  assert.ok(encoded instanceof Uint8Array);
+  assert.equal(new TextDecoder().decode(encoded.subarray(0, 4)), 'CLOD');
+  assert.equal(new DataView(encoded.buffer, encoded.byteOffset).getUint32(4, true), 1, 'format version 1');
+  assert.equal(progress[0], 0);
+  assert.equal(progress.at(-1), 1);
+  assert.equal(progress.filter((f) => f === 1).length, 1, '1 only once, when the bytes are ready');
+  assert.ok(progress.every((f, i) => f >= 0 && f <= 1 && (i === 0 || f >= progress[i - 1])), `${progress}`);
+
+  // The same chain built twice encodes to the same bytes; options.onProgress works too.
+  const again = [];
+  const second = character.buildClodBytes({ levels: [892, 400, 100], onProgress: (f) => again.push(f) });
+  assert.deepEqual(second, encoded);
+  assert.deepEqual(again, progress);
+  const clod = character.buildClod({ levels: [892, 400, 100] });
+  console.log(`RiggedSimple: ${encoded.length} bytes in ${bytesMs.toFixed(0)} ms (buildClod ${clod.buildMs.toFixed(0)} ms)`);
+  clod.free();
+
+  assert.throws(() => character.buildClodBytes({ levels: [100, 200] }), /decreasing/);
+  assert.throws(() => character.buildClodBytes({}, 3), /onProgress/);
+  character.free();
+});

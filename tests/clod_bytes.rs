@@ -1,0 +1,376 @@
+//! The LOD chain as bytes (`clod::bytes`): round trips on the built-in character and the shared
+//! models, the cursor over a decoded chain, every truncation and seeded mutations of a small
+//! chain's bytes, tampered chains and a mismatched character.
+
+mod common;
+
+use clod_viewer::character::Character;
+use clod_viewer::clod::bytes::{decode, encode, ClodBytesError, FORMAT_VERSION};
+use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
+use clod_viewer::mesh::{compute_normals, PrimitiveRange, SkinnedMesh};
+use clod_viewer::render::lod_source::LodSource;
+use clod_viewer::skeleton::{Node, Skeleton, SkinJoint, Transform};
+use clod_viewer::{import, PmCursor};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+const BUILTIN: &[u8] = include_bytes!("../assets/character.glb");
+const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
+
+fn build(character: &Character, options: &ClodOptions) -> Clod {
+    clod::build(character, options, &mut |_| {}).expect("the test characters simplify")
+}
+
+/// A `size × size`-quad wavy grid with uvs, colours and two joints (left half on joint 0, right
+/// half on joint 1, a blend in the middle column): small enough to decode every prefix of.
+fn small_character(size: usize) -> Character {
+    let side = size + 1;
+    let mut positions = Vec::new();
+    let (mut uvs, mut colors, mut joints, mut weights) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for j in 0..side {
+        for i in 0..side {
+            let (x, y) = (i as f32, j as f32);
+            positions.push(Vec3::new(x, y, 0.3 * (x * 0.9).sin() * (y * 0.7).cos()));
+            uvs.push(Vec2::new(x / size as f32, y / size as f32));
+            colors.push(Vec4::new(x / size as f32, 0.5, y / size as f32, 1.0));
+            let right = (i as f32 / size as f32).clamp(0.0, 1.0);
+            joints.push([0, 1, 0, 0]);
+            weights.push([1.0 - right, right, 0.0, 0.0]);
+        }
+    }
+    let mut indices = Vec::new();
+    for j in 0..size as u32 {
+        for i in 0..size as u32 {
+            let v = j * side as u32 + i;
+            indices.extend([v, v + 1, v + side as u32 + 1, v, v + side as u32 + 1, v + side as u32]);
+        }
+    }
+    let normals = compute_normals(&positions, &indices);
+    let primitives =
+        vec![PrimitiveRange { first_index: 0, index_count: indices.len() as u32, material: None }];
+    let mesh = SkinnedMesh {
+        positions,
+        normals,
+        uvs: Some(uvs),
+        colors: Some(colors),
+        joints,
+        weights,
+        indices,
+        primitives,
+    };
+    let node = |name: &str, parent| Node { name: name.into(), parent, rest: Transform::IDENTITY };
+    let skeleton = Skeleton {
+        nodes: vec![node("root", None), node("right", Some(0))],
+        joints: vec![
+            SkinJoint { node: 0, joint_from_bind: Mat4::IDENTITY },
+            SkinJoint { node: 1, joint_from_bind: Mat4::IDENTITY },
+        ],
+    };
+    Character { mesh, skeleton, clips: Vec::new(), materials: Vec::new(), warnings: Vec::new() }
+}
+
+fn small_clod() -> (Character, Clod) {
+    let character = small_character(6);
+    let options = ClodOptions { level_triangles: Some(vec![72, 36, 16]), ..ClodOptions::default() };
+    let clod = build(&character, &options);
+    (character, clod)
+}
+
+/// Uses a chain as the viewer does, so a decoded chain that passed validation but breaks an
+/// invariant panics here: every triangle count down and back up, the level source, the cursor
+/// level and skinned positions of every level.
+fn walk(character: &Character, clod: &Clod) {
+    let pm = &clod.apm.pm;
+    let mut cursor = pm.cursor();
+    let full = pm.triangle_count_after(0);
+    for triangles in (0..=full).rev().chain(0..=full) {
+        cursor.set_triangle_count(triangles);
+        let (indices, vertices) = (cursor.indices(), cursor.vertices());
+        assert!(indices.iter().all(|&i| (i as usize) < vertices.len()));
+        assert!(vertices.iter().all(|&v| (v as usize) < pm.vertex_total()));
+    }
+    cursor.set_triangle_count(full / 2);
+    LodSource::from_cursor(character, clod, &cursor);
+    let source = LodSource::from_clod(character, clod);
+    assert_eq!(source.levels.len(), clod.levels.len());
+    let skin = vec![Mat4::IDENTITY; character.skeleton.joints.len()];
+    for level in 0..clod.levels.len() {
+        assert_eq!(clod.level_skinned_positions(level, &skin).len(), clod.levels[level].vertices.len());
+    }
+}
+
+/// The same mesh at several triangle counts from the decoded and the original chain.
+fn same_cursor_meshes(original: &Clod, decoded: &Clod) {
+    let full = original.apm.pm.triangle_count_after(0);
+    let (mut a, mut b): (PmCursor, PmCursor) = (original.apm.pm.cursor(), decoded.apm.pm.cursor());
+    for triangles in [full, full * 3 / 4, full / 3, full / 10, 0, full / 2] {
+        assert_eq!(a.set_triangle_count(triangles), b.set_triangle_count(triangles));
+        assert_eq!(a.indices(), b.indices(), "indices at {triangles} triangles");
+        assert_eq!(a.vertices(), b.vertices(), "vertices at {triangles} triangles");
+    }
+}
+
+/// Checks the round trip and prints the encoded size (against the `.glb`'s, if there is one).
+fn round_trip(name: &str, glb_len: Option<usize>, character: &Character, clod: &Clod) {
+    let bytes = encode(clod);
+    assert_eq!(&bytes[..4], b"CLOD");
+    assert_eq!(bytes[4..8], FORMAT_VERSION.to_le_bytes());
+    let decoded = decode(&bytes, character).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(decoded == *clod, "{name}: the decoded chain differs from the built one");
+    assert_eq!(encode(&decoded), bytes, "{name}: re-encoding gives other bytes");
+    same_cursor_meshes(clod, &decoded);
+    assert_eq!(LodSource::from_clod(character, &decoded), LodSource::from_clod(character, clod));
+    let versus_glb = glb_len.map_or(String::new(), |glb| {
+        format!(" ({:.2} × the {glb} byte glb)", bytes.len() as f64 / glb as f64)
+    });
+    println!(
+        "{name}: {} triangles, {} vertex ids, {} collapses, {} levels: {} bytes encoded{versus_glb}",
+        character.mesh.triangle_count(),
+        clod.apm.pm.vertex_total(),
+        clod.apm.pm.collapse_count(),
+        clod.levels.len(),
+        bytes.len(),
+    );
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn builtin_character_round_trips() {
+    let character = import::from_glb(BUILTIN).expect("the built-in character imports");
+    let clod = build(&character, &ClodOptions::default());
+    round_trip("assets/character.glb", Some(BUILTIN.len()), &character, &clod);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn every_shared_model_round_trips() {
+    for name in MODELS {
+        let Some(glb) = common::model_bytes(name) else { continue };
+        let character = import::from_glb(&glb).expect("shared models import");
+        // One model simplified in a clip frame, so the pose's clip name goes through the bytes.
+        let pose = match name {
+            "RiggedSimple.glb" => {
+                SimplificationPose::ClipFrame { clip: character.clips[0].name.clone(), time: 0.4 }
+            }
+            _ => ClodOptions::default().pose,
+        };
+        let clod = build(&character, &ClodOptions { pose, ..ClodOptions::default() });
+        round_trip(name, Some(glb.len()), &character, &clod);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn small_chain_round_trips_and_walks() {
+    let (character, clod) = small_clod();
+    let (levels, collapses) = (clod.levels.len(), clod.apm.pm.collapse_count());
+    assert!(levels == 3 && collapses > 25, "a chain worth encoding: {levels} levels, {collapses} collapses");
+    round_trip("6 × 6 grid", None, &character, &clod);
+    walk(&character, &decode(&encode(&clod), &character).unwrap());
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn every_truncation_is_an_error() {
+    let (character, clod) = small_clod();
+    let bytes = encode(&clod);
+    for end in 0..bytes.len() {
+        match decode(&bytes[..end], &character) {
+            Err(ClodBytesError::Truncated { .. }) => {}
+            other => panic!("{end} of {} bytes: expected Truncated, got {other:?}", bytes.len()),
+        }
+    }
+    let mut longer = bytes.clone();
+    longer.push(0);
+    assert_eq!(decode(&longer, &character).unwrap_err(), ClodBytesError::TrailingBytes { count: 1 });
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn seeded_mutations_never_panic() {
+    let (character, clod) = small_clod();
+    let bytes = encode(&clod);
+    let mut rng = common::SplitMix(0x0C10_DB17);
+    let (mut accepted, mut rejected) = (0, 0);
+    for _ in 0..400 {
+        let mut mutated = bytes.clone();
+        for _ in 0..1 + rng.below(3) {
+            // Words at 4-byte offsets are the fields (everything is 4-byte aligned except joints);
+            // small values make plausible but wrong ids, single bits wrong floats and lengths.
+            let at = 4 * rng.below(mutated.len() / 4);
+            let word = u32::from_le_bytes(mutated[at..at + 4].try_into().unwrap());
+            let new = match rng.below(4) {
+                0 => rng.below(200) as u32,
+                1 => word ^ (1 << rng.below(32)),
+                2 => word.wrapping_add(1),
+                _ => word.wrapping_sub(1),
+            };
+            mutated[at..at + 4].copy_from_slice(&new.to_le_bytes());
+        }
+        match decode(&mutated, &character) {
+            Ok(decoded) => {
+                walk(&character, &decoded);
+                accepted += 1;
+            }
+            Err(_) => rejected += 1,
+        }
+    }
+    println!("mutations: {accepted} decoded (and walked), {rejected} rejected");
+    assert!(rejected > 100, "most mutations of ids and counts are caught, got {rejected} of 400");
+}
+
+/// Encodes a tampered copy of the small chain and returns the decoder's answer.
+fn decode_tampered(tamper: impl FnOnce(&mut Clod)) -> ClodBytesError {
+    let (character, mut clod) = small_clod();
+    tamper(&mut clod);
+    decode(&encode(&clod), &character).expect_err("the tampered chain is rejected")
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn tampered_chains_name_their_problem() {
+    use ClodBytesError::*;
+    let (character, clod) = small_clod();
+    let bytes = encode(&clod);
+    let n = clod.apm.pm.input_vertex_count;
+    let total = clod.apm.pm.vertex_total();
+
+    let mut bad = bytes.clone();
+    bad[0] = b'X';
+    assert_eq!(decode(&bad, &character).unwrap_err(), BadMagic { found: *b"XLOD" });
+    let mut bad = bytes.clone();
+    bad[4..8].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
+    let error = decode(&bad, &character).unwrap_err();
+    assert_eq!(error, UnsupportedVersion { found: FORMAT_VERSION + 1, supported: FORMAT_VERSION });
+    assert!(error.to_string().contains("version 2 is not supported"), "{error}");
+
+    // An array count far beyond the bytes: refused before anything is allocated.
+    let mut bad = bytes.clone();
+    // Header (8), multi-pose tag and u64 (12), four progressive-mesh scalars (16).
+    let positions_count = 8 + 12 + 16;
+    assert_eq!(bad[positions_count..positions_count + 4], (total as u32).to_le_bytes());
+    bad[positions_count..positions_count + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(matches!(decode(&bad, &character).unwrap_err(), Truncated { field: "positions", .. }));
+
+    let error = decode_tampered(|c| c.levels[1].indices[4] = 10_000);
+    assert!(matches!(error, OutOfRange { field: "level indices", index: 4, value: 10_000, .. }), "{error}");
+    let error = decode_tampered(|c| c.levels[0].ancestors[0] = c.levels[1].vertices.len() as u32);
+    assert!(matches!(error, OutOfRange { field: "level ancestors", index: 0, .. }), "{error}");
+    let error = decode_tampered(|c| c.levels[2].ancestors.push(0));
+    assert!(matches!(error, LengthMismatch { field: "level ancestors", found: 1, expected: 0 }), "{error}");
+    let error = decode_tampered(|c| c.levels[1].vertices[0] = total as u32);
+    assert!(matches!(error, OutOfRange { field: "level vertices", .. }), "{error}");
+    let error = decode_tampered(|c| c.levels.swap(1, 2));
+    assert!(matches!(error, Inconsistent { field: "level collapses", index: 2, .. }), "{error}");
+
+    let error = decode_tampered(|c| c.apm.pm.positions[n + 1].y = f32::NAN);
+    assert_eq!(error, NonFinite { field: "positions", index: n + 1 });
+    let error = decode_tampered(|c| c.apm.bind_positions[total - 1].x = f32::INFINITY);
+    assert_eq!(error, NonFinite { field: "bind_positions", index: total - 1 });
+    let error = decode_tampered(|c| c.apm.weights.pop().map(|_| ()).unwrap());
+    assert_eq!(error, LengthMismatch { field: "weights", found: total as u64 - 1, expected: total as u64 });
+    let error = decode_tampered(|c| c.apm.joints[total - 1] = [7, 0, 0, 0]);
+    assert_eq!(error, JointOutOfRange { vertex: total - 1, joint: 7, joint_count: 2 });
+
+    // A parent pointing back down would make ancestor walks loop forever.
+    let error = decode_tampered(|c| {
+        let child = c.apm.pm.parent.iter().position(|&p| p != u32::MAX).unwrap();
+        let p = c.apm.pm.parent[child] as usize;
+        c.apm.pm.parent[p] = child as u32;
+    });
+    assert!(matches!(error, Inconsistent { field: "parent", .. }), "{error}");
+    let error = decode_tampered(|c| c.apm.pm.survivor_source[n] = n as u32);
+    assert_eq!(
+        error,
+        Inconsistent {
+            field: "survivor_source",
+            index: n,
+            reason: "created vertices inherit from a smaller id; input vertices from none"
+        }
+    );
+    let error = decode_tampered(|c| c.apm.pm.vertex_slot[n] = (c.apm.pm.vertex_slot[n] + 1) % n as u32);
+    assert!(matches!(error, Inconsistent { field: "vertex_slot", index, .. } if index == n), "{error}");
+    let error = decode_tampered(|c| c.apm.pm.vertex_slot[1] = c.apm.pm.vertex_slot[0]);
+    assert!(matches!(error, Inconsistent { field: "vertex_slot", index: 1, .. }), "{error}");
+    // Two input slots swapped: still a permutation, but the recorded corner changes no longer
+    // start where the corners are (or a created vertex leaves its survivor's slot).
+    let error = decode_tampered(|c| c.apm.pm.vertex_slot.swap(0, 1));
+    assert!(matches!(error, Inconsistent { field: "vertex_slot" | "corner_changes", .. }), "{error}");
+    // The last corner change sends its corner to the last input slot, dead by then: found in
+    // the bytes as the change followed by the bind-position count.
+    let last = *clod.apm.pm.corner_changes().last().unwrap();
+    let pattern: Vec<u8> = [last.corner, last.from_slot, last.to_slot, total as u32]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let at = bytes.windows(16).position(|w| w == pattern).expect("the last corner change is in the bytes");
+    let mut bad = bytes.clone();
+    bad[at + 8..at + 12].copy_from_slice(&(n as u32 - 1).to_le_bytes());
+    let error = decode(&bad, &character).unwrap_err();
+    assert!(matches!(error, Inconsistent { field: "collapses", .. }), "a corner on a dead slot: {error}");
+    // Base triangles are compared with the character's, which also keeps them in range.
+    let error = decode_tampered(|c| c.apm.pm.indices[0] = n as u32);
+    let source = clod.apm.pm.triangle_source[0] as usize;
+    assert_eq!(error, CharacterDataMismatch { what: "triangle", index: source });
+    let error = decode_tampered(|c| c.apm.pm.collapses[3].triangles_after += 10);
+    assert!(matches!(error, Inconsistent { field: "collapses", index: 3, .. }), "{error}");
+    let error = decode_tampered(|c| c.apm.pm.collapses[0].vertices_after = 0);
+    let reason = "triangle and slot counts never grow";
+    assert_eq!(error, Inconsistent { field: "collapses", index: 1, reason });
+    // A slot dropped one step early, while its vertex is still in use.
+    let collapses = &clod.apm.pm.collapses;
+    let drop = (1..collapses.len()).find(|&s| collapses[s].vertices_after < collapses[s - 1].vertices_after);
+    let drop = drop.expect("some step merges two chains");
+    let error = decode_tampered(|c| {
+        c.apm.pm.collapses[drop - 1].vertices_after = c.apm.pm.collapses[drop].vertices_after
+    });
+    let reason = "a live triangle uses a slot past the live ones";
+    assert_eq!(error, Inconsistent { field: "collapses", index: drop - 1, reason });
+    let error = decode_tampered(|c| c.apm.pm.born_at[total - 1] = 1);
+    assert!(matches!(error, Inconsistent { field: "born_at", .. }), "{error}");
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn another_character_is_named_as_the_mismatch() {
+    let (character, clod) = small_clod();
+    let bytes = encode(&clod);
+    let bigger = small_character(7);
+    let error = decode(&bytes, &bigger).unwrap_err();
+    assert_eq!(error, ClodBytesError::CharacterMismatch { what: "vertices", bytes: 49, character: 64 });
+    assert!(error.to_string().contains("49 vertices; this character has 64"), "{error}");
+
+    // Same counts, one vertex moved: the input data names it.
+    let mut moved = character.clone();
+    moved.mesh.positions[5].z += 0.5;
+    let error = decode(&bytes, &moved).unwrap_err();
+    assert_eq!(error, ClodBytesError::CharacterDataMismatch { what: "bind position of vertex", index: 5 });
+
+    // Same vertices, one triangle flipped.
+    let mut flipped = character.clone();
+    flipped.mesh.indices.swap(0, 1);
+    let error = decode(&bytes, &flipped).unwrap_err();
+    assert_eq!(error, ClodBytesError::CharacterDataMismatch { what: "triangle", index: 0 });
+
+    let mut no_colours = character.clone();
+    no_colours.mesh.colors = None;
+    let error = decode(&bytes, &no_colours).unwrap_err();
+    assert_eq!(error, ClodBytesError::CharacterMismatch { what: "colour sets", bytes: 1, character: 0 });
+
+    let mut one_joint = character.clone();
+    one_joint.skeleton.joints.pop();
+    let error = decode(&bytes, &one_joint).unwrap_err();
+    assert!(matches!(error, ClodBytesError::JointOutOfRange { joint: 1, joint_count: 1, .. }), "{error}");
+
+    // A real model's chain against the built-in character.
+    if let Some(glb) = common::model_bytes("RiggedSimple.glb") {
+        let simple = import::from_glb(&glb).unwrap();
+        let options = ClodOptions { level_triangles: Some(vec![892, 200]), ..ClodOptions::default() };
+        let bytes = encode(&build(&simple, &options));
+        let builtin = import::from_glb(BUILTIN).unwrap();
+        let error = decode(&bytes, &builtin).unwrap_err();
+        assert!(
+            matches!(error, ClodBytesError::CharacterMismatch { what: "vertices", bytes: 960, .. }),
+            "{error}"
+        );
+    }
+}
