@@ -11,6 +11,7 @@ pub mod camera;
 pub mod layout;
 pub mod lod_source;
 pub mod plan;
+pub mod pop_spike;
 pub mod schedule;
 pub mod uniforms;
 
