@@ -8,6 +8,7 @@
 //! to and reported by the page are multiples of the *framing distance* (the character's bounding
 //! sphere fills the view's height at 1).
 
+mod pop_spike;
 mod settings;
 
 use std::cell::RefCell;

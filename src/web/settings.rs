@@ -146,6 +146,15 @@ pub fn method_name(m: Method) -> &'static str {
     }
 }
 
+/// The page's name of an alpha-blending variant.
+pub fn variant_name(v: BlendVariant) -> &'static str {
+    match v {
+        BlendVariant::Naive => "naive",
+        BlendVariant::OpaqueFirst => "opaque-first",
+        BlendVariant::Dither => "dither",
+    }
+}
+
 /// `obj[key]` as a string, when it is one.
 pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     if !obj.is_object() {
