@@ -106,7 +106,14 @@ impl Viewer {
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(js_error)?;
         let (center, radius) = rest_sphere(&character);
         let framing = camera::framing_distance(radius);
-        let camera = OrbitCamera { target: center, radius, distance: framing, yaw: 0.0 };
+        let camera = OrbitCamera {
+            target: center,
+            radius,
+            distance: framing,
+            yaw: 0.0,
+            pitch: camera::DEFAULT_PITCH,
+            pan: glam::Vec2::ZERO,
+        };
         let (w, h) = renderer.size();
         let empty = ViewPlan { draws: Vec::new(), level: 0, t: 0.0 };
         let inner = Inner {
@@ -157,6 +164,9 @@ impl Viewer {
     /// Changes settings; unknown keys are an error (a typo should not pass silently).
     /// Keys: `paused`, `time` (animation seconds), `speed`, `clip`, `distanceMode`
     /// (`"dolly"|"manual"`), `distance` (× framing distance), `dollyPeriod`, `yaw` (degrees),
+    /// `pitch` (degrees, clamped to ±85), `pan` (`[x, y]`, × framing distance, moves the point
+    /// looked at along the view's right and up), `resetCamera` (`true`: yaw, pitch, pan and the
+    /// manual distance back to their defaults, before the call's other keys),
     /// `tolerance` (pixels), `hysteresis` (fraction), `transition` (`"time"|"distance"`),
     /// `duration` (seconds per level), `zone` (fraction), `variant`
     /// (`"naive"|"opaque-first"|"dither"`), `methods` (three of
@@ -263,6 +273,8 @@ impl Inner {
         });
         self.camera.distance = self.distance;
         self.camera.yaw = s.yaw_degrees.to_radians();
+        self.camera.pitch = s.pitch_degrees.to_radians();
+        self.camera.pan = glam::Vec2::from(s.pan) * self.framing;
         self.camera_raw = camera_raw(&self.camera, self.layout.views[0].aspect());
         let pose = match s.clip.and_then(|c| self.character.clips.get(c)) {
             Some(clip) => self.character.pose_at(clip, self.anim_time as f32),
@@ -344,6 +356,7 @@ impl Inner {
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},",
                 "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -366,6 +379,11 @@ impl Inner {
             num(self.distance / self.framing),
             num(self.anim_time as f32),
             s.paused,
+            num(s.yaw_degrees),
+            num(s.pitch_degrees),
+            num(s.pan[0]),
+            num(s.pan[1]),
+            json_str(if s.distance_mode == DistanceMode::Manual { "manual" } else { "dolly" }),
             s.continuous_triangles.map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
             self.layout.stacked,
