@@ -1,7 +1,7 @@
 // (1) The page starts, says which backend runs, and all three views show the character.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, foregroundFraction, savePng } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, foregroundFraction, meanAbsDiff, savePng, SMALL_VIEWPORT, FINEST_TOLERANCE } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -37,4 +37,34 @@ test('a file that is not a glTF is reported in the alert, not thrown away', asyn
   await page.setInputFiles('#file', { name: 'broken.glb', mimeType: 'model/gltf-binary', buffer: Buffer.from('not a glb') });
   await page.waitForFunction(() => document.documentElement.dataset.state === 'error');
   assert.match(await page.locator('[role=alert]').textContent(), /broken\.glb/);
+});
+
+test('the continuous LOD slider: every view draws about n triangles, coarser n change the picture more', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  let now = 1000;
+  // The finest level in every view (a tolerance so small that the schedule never coarsens).
+  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
+  assert.equal(start.views[0].triangles, start.maxTriangles);
+  const finest = crop(await readPixels(page), start.views[0].rect);
+  const rows = [];
+  let previous = 0;
+  for (const n of [20000, 5000, 2000, 1000]) {
+    const state = await frame(page, now += 16, { continuousTriangles: n });
+    // The progressive mesh moves one collapse (one or two triangles) at a time.
+    assert.ok(Math.abs(state.continuousTriangles - n) <= 2, `asked ${n}, got ${state.continuousTriangles}`);
+    for (const view of state.views) assert.equal(view.triangles, state.continuousTriangles);
+    const pixels = await readPixels(page);
+    const crops = state.views.map((v) => crop(pixels, v.rect));
+    crops.forEach((c, i) => assert.ok(foregroundFraction(c) > 0.03, `view ${i} is nearly empty at ${n} triangles`));
+    const diff = meanAbsDiff(finest, crops[0]);
+    rows.push(`${state.continuousTriangles}: ${diff.toFixed(3)}`);
+    // Monotonic up to noise: fewer triangles never look much closer to the full mesh.
+    assert.ok(diff >= 0.8 * previous, `the picture at ${n} triangles is closer to the full mesh (${rows})`);
+    previous = diff;
+  }
+  console.log(`continuous LOD, mean |ΔRGB| per pixel from the full mesh: ${rows.join(', ')}`);
+  assert.ok(previous > 0, 'the coarsest continuous mesh changes the picture');
+  const off = await frame(page, now += 16, { continuousTriangles: null });
+  assert.equal(off.continuousTriangles, null);
+  assert.equal(off.views[0].triangles, off.levels[0].triangles);
 });

@@ -2,14 +2,14 @@
 // SwiftShader here; rasterization rules match, so only rounding differs).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, readPixels, crop, meanAbsDiff, foregroundFraction, clock, midTransition, savePng } from './helpers.mjs';
+import { launch, openPage, readPixels, crop, meanAbsDiff, foregroundFraction, clock, midTransition, savePng, SMALL_VIEWPORT } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
 async function picture(backend, methods) {
-  const page = await openPage(browser, { backend });
+  const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
   const state = await midTransition(page, clock(), { k: 4, t: 0.5, methods, variant: 'dither', switchAt: 1.2 });
   assert.equal(state.backend, backend);
   assert.equal(state.errors.length, 0, state.errors.join('\n'));
