@@ -170,7 +170,8 @@ impl Viewer {
     /// `tolerance` (pixels), `hysteresis` (fraction), `transition` (`"time"|"distance"`),
     /// `duration` (seconds per level), `zone` (fraction), `variant`
     /// (`"naive"|"opaque-first"|"dither"`), `methods` (three of
-    /// `"popping"|"alpha"|"geomorph"`), `continuousTriangles` (number, or null for off).
+    /// `"popping"|"alpha"|"geomorph"`), `continuousTriangles` (number, or null for off), `overlay`
+    /// (`"none"|"wireframe"|"levels"`: triangle edges, or a colour per level, on every view).
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
         let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
@@ -208,7 +209,12 @@ impl Viewer {
         wasm_bindgen_futures::future_to_promise(async move {
             let guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
             let views = guard.frame_views();
-            let input = FrameInput { camera: guard.camera_raw, skin: &guard.skin, views };
+            let input = FrameInput {
+                camera: guard.camera_raw,
+                skin: &guard.skin,
+                views,
+                overlay: guard.settings.overlay,
+            };
             let pixels =
                 guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
             let out = js_sys::Object::new();
@@ -289,7 +295,8 @@ impl Inner {
 
     fn draw(&mut self) {
         let views = self.frame_views();
-        let input = FrameInput { camera: self.camera_raw, skin: &self.skin, views };
+        let input =
+            FrameInput { camera: self.camera_raw, skin: &self.skin, views, overlay: self.settings.overlay };
         self.renderer.render(&input);
         self.frames += 1;
     }
@@ -356,7 +363,7 @@ impl Inner {
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},",
                 "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
-                "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},",
+                "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -384,6 +391,7 @@ impl Inner {
             num(s.pan[0]),
             num(s.pan[1]),
             json_str(if s.distance_mode == DistanceMode::Manual { "manual" } else { "dolly" }),
+            json_str(settings::overlay_name(s.overlay)),
             s.continuous_triangles.map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
             self.layout.stacked,

@@ -179,7 +179,12 @@ impl Inner {
             self.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
             self.advance(start_ms + (i + 1) as f64 * FRAME_SECONDS * 1000.0);
             selected.push(self.schedule.selected);
-            let input = FrameInput { camera: self.camera_raw, skin: &self.skin, views: self.frame_views() };
+            let input = FrameInput {
+                camera: self.camera_raw,
+                skin: &self.skin,
+                views: self.frame_views(),
+                overlay: self.settings.overlay,
+            };
             let pixels = self.renderer.read_pixels(&input).await.map_err(|e| e.to_string())?;
             meter.push(pixels.rgba, pixels.width, self.layout.views);
         }

@@ -4,6 +4,7 @@
 use wasm_bindgen::JsValue;
 
 use crate::render::camera;
+use crate::render::overlay::Overlay;
 use crate::render::plan::{BlendVariant, Method};
 use crate::render::schedule::TransitionMode;
 
@@ -40,6 +41,8 @@ pub struct Settings {
     pub methods: [Method; 3],
     /// Triangle count of the continuous level drawn by every view, when on.
     pub continuous_triangles: Option<u32>,
+    /// Drawn over every view alike.
+    pub overlay: Overlay,
 }
 
 impl Default for Settings {
@@ -66,6 +69,7 @@ impl Default for Settings {
             variant,
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             continuous_triangles: None,
+            overlay: Overlay::None,
         }
     }
 }
@@ -93,6 +97,7 @@ pub struct Update {
     pub zone: Option<f32>,
     pub variant: Option<BlendVariant>,
     pub methods: Option<[Method; 3]>,
+    pub overlay: Option<Overlay>,
     /// `Some(None)` turns the continuous level off.
     pub continuous_triangles: Option<Option<u32>>,
 }
@@ -125,6 +130,7 @@ impl Update {
         set!(pan, self.pan);
         set!(tolerance_px, self.tolerance);
         set!(hysteresis, self.hysteresis);
+        set!(overlay, self.overlay);
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
             s.distance_mode = DistanceMode::Manual;
@@ -167,6 +173,15 @@ pub fn method_name(m: Method) -> &'static str {
     }
 }
 
+/// The page's name of an overlay.
+pub fn overlay_name(o: Overlay) -> &'static str {
+    match o {
+        Overlay::None => "none",
+        Overlay::Wireframe => "wireframe",
+        Overlay::Levels => "levels",
+    }
+}
+
 /// The page's name of an alpha-blending variant.
 pub fn variant_name(v: BlendVariant) -> &'static str {
     match v {
@@ -184,7 +199,7 @@ pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     js_sys::Reflect::get(obj, &key.into()).ok()?.as_string()
 }
 
-const KEYS: [&str; 19] = [
+const KEYS: [&str; 20] = [
     "paused",
     "time",
     "speed",
@@ -204,6 +219,7 @@ const KEYS: [&str; 19] = [
     "variant",
     "methods",
     "continuousTriangles",
+    "overlay",
 ];
 
 /// Reads a `setState` object.
@@ -317,6 +333,18 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "continuousTriangles" => {
                 u.continuous_triangles =
                     Some(if value.is_null() { None } else { Some(number(1.0, 1e9)? as u32) })
+            }
+            "overlay" => {
+                u.overlay = Some(match text()?.as_str() {
+                    "none" => Overlay::None,
+                    "wireframe" => Overlay::Wireframe,
+                    "levels" => Overlay::Levels,
+                    other => {
+                        return Err(format!(
+                            "overlay must be \"none\", \"wireframe\" or \"levels\", got {other:?}"
+                        ))
+                    }
+                })
             }
             _ => unreachable!("checked against KEYS"),
         }

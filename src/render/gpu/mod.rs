@@ -23,11 +23,12 @@ mod readback;
 mod resources;
 
 use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTargets};
-use pipelines::{create_pipelines, BindLayouts};
+use pipelines::{create_pipelines, BindLayouts, Pipelines};
 use resources::{uniform_buffer, upload_level, upload_materials};
 
 use super::layout::Rect;
 use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
+use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
 use super::uniforms::{CameraRaw, DrawRaw, JointsRaw, MaterialRaw, MAX_JOINTS, SKIN_WGSL};
 use crate::character::{AlphaMode, Character};
@@ -68,6 +69,9 @@ const BACKGROUND: wgpu::Color = wgpu::Color { r: 0.25, g: 0.3, b: 0.38, a: 1.0 }
 struct LevelGpu {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
+    /// Line list of the level's edges (the wireframe overlay).
+    edges: wgpu::Buffer,
+    edge_count: u32,
     /// `(first_index, index_count, material slot)`.
     ranges: Vec<(u32, u32, usize)>,
 }
@@ -85,6 +89,8 @@ pub struct FrameInput<'a> {
     pub camera: CameraRaw,
     pub skin: &'a [Mat4],
     pub views: [(Rect, &'a ViewPlan); 3],
+    /// Drawn over every view alike.
+    pub overlay: Overlay,
 }
 
 /// Pixels read back from an offscreen render of a frame: RGBA8, sRGB-encoded, rows top first.
@@ -121,7 +127,7 @@ pub struct Renderer {
     levels: Vec<LevelGpu>,
     /// The continuous-LOD mesh, drawn as level `levels.len()`.
     continuous: Option<LevelGpu>,
-    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     /// `webgpu` or `webgl2`, and the adapter's name.
     pub backend: &'static str,
@@ -359,7 +365,7 @@ impl Renderer {
                 {
                     let mut pass =
                         begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
-                    self.draw_view(&mut pass, plan, [0.0; 2], &mut slot);
+                    self.draw_view(&mut pass, plan, frame.overlay, [0.0; 2], &mut slot);
                 }
                 encoder.copy_texture_to_texture(
                     targets.textures[i].as_image_copy(),
@@ -397,7 +403,7 @@ impl Renderer {
                     1.0,
                 );
                 pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
-                self.draw_view(&mut pass, plan, [rect.x as f32, rect.y as f32], &mut slot);
+                self.draw_view(&mut pass, plan, frame.overlay, [rect.x as f32, rect.y as f32], &mut slot);
             }
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
@@ -406,7 +412,14 @@ impl Renderer {
     }
 
     /// Records one view's draws; `slot` counts the draw-uniform slots used so far this frame.
-    fn draw_view(&self, pass: &mut wgpu::RenderPass, plan: &ViewPlan, origin: [f32; 2], slot: &mut u64) {
+    fn draw_view(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        plan: &ViewPlan,
+        overlay: Overlay,
+        origin: [f32; 2],
+        slot: &mut u64,
+    ) {
         pass.set_bind_group(0, &self.frame_group, &[]);
         for draw in &plan.draws {
             let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
@@ -417,6 +430,7 @@ impl Renderer {
                 dither_mode: draw.dither_mode,
                 dither_threshold: draw.dither_threshold,
                 viewport_origin: origin,
+                tint: draw_tint(overlay, draw.level, draw.morph_t),
                 ..DrawRaw::default()
             };
             self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
@@ -434,9 +448,15 @@ impl Renderer {
             for &(first, count, material) in &level.ranges {
                 let m = &self.materials[material];
                 let key = (draw.pass, draw.morph_t.is_some(), !m.double_sided);
-                pass.set_pipeline(&self.pipelines[&key]);
+                pass.set_pipeline(&self.pipelines.shaded[&key]);
                 pass.set_bind_group(1, &m.bind_group, &[]);
                 pass.draw_indexed(first..first + count, 0, 0..1);
+            }
+            if overlay == Overlay::Wireframe && !level.ranges.is_empty() {
+                // The same vertices and draw uniforms (morph, opacity, dither) as the triangles.
+                pass.set_pipeline(&self.pipelines.wire[usize::from(draw.morph_t.is_some())]);
+                pass.set_index_buffer(level.edges.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..level.edge_count, 0, 0..1);
             }
         }
     }

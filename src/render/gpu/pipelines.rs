@@ -1,5 +1,5 @@
 //! Bind group layouts, vertex layouts and the render pipelines of `skin.wgsl`: one per pass kind,
-//! vertex shader (level or geomorph) and culling mode.
+//! vertex shader (level or geomorph) and culling mode, and the wireframe overlay's line pipelines.
 
 use super::*;
 
@@ -68,12 +68,30 @@ fn vertex_attributes(base: u64, location: u32) -> [wgpu::VertexAttribute; 6] {
     })
 }
 
+/// What differs between the renderer's pipelines.
+struct Spec {
+    /// Geomorph vertex shader (both vertices of each pair) or the level's own.
+    geomorph: bool,
+    /// Wireframe lines (line list, `vs_wire_*` and `fs_wire`) or shaded triangles.
+    wire: bool,
+    cull: bool,
+    blend: bool,
+    depth_write: bool,
+    depth_compare: wgpu::CompareFunction,
+}
+
+/// The shaded pipelines by [`PipelineKey`], and the wireframe ones (level, geomorph).
+pub(super) struct Pipelines {
+    pub(super) shaded: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pub(super) wire: [wgpu::RenderPipeline; 2],
+}
+
 pub(super) fn create_pipelines(
     device: &wgpu::Device,
     layouts: &BindLayouts,
     color_format: wgpu::TextureFormat,
     sample_count: u32,
-) -> HashMap<PipelineKey, wgpu::RenderPipeline> {
+) -> Pipelines {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("skin.wgsl"),
         source: wgpu::ShaderSource::Wgsl(SKIN_WGSL.into()),
@@ -87,65 +105,91 @@ pub(super) fn create_pipelines(
     let mut both = fine.to_vec();
     both.extend(vertex_attributes(std::mem::size_of::<VertexRaw>() as u64, 6));
     let stride = std::mem::size_of::<GeomorphVertexRaw>() as u64;
-    let mut out = HashMap::new();
+    let create = |spec: Spec| {
+        let attributes: &[wgpu::VertexAttribute] = if spec.geomorph { &both } else { &fine };
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: stride,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes,
+        })];
+        let (vertex, fragment, topology) = match (spec.wire, spec.geomorph) {
+            (false, false) => ("vs_level", "fs_main", wgpu::PrimitiveTopology::TriangleList),
+            (false, true) => ("vs_geomorph", "fs_main", wgpu::PrimitiveTopology::TriangleList),
+            (true, false) => ("vs_wire_level", "fs_wire", wgpu::PrimitiveTopology::LineList),
+            (true, true) => ("vs_wire_geomorph", "fs_wire", wgpu::PrimitiveTopology::LineList),
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("{vertex} {fragment} cull={} blend={}", spec.cull, spec.blend)),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vertex),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: spec.cull.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(spec.depth_write),
+                depth_compare: Some(spec.depth_compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fragment),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: color_format,
+                    blend: spec.blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let mut shaded = HashMap::new();
     for pass in [PassKind::Opaque, PassKind::BlendOver, PassKind::BlendNaive] {
         for geomorph in [false, true] {
             for cull in [false, true] {
-                let attributes: &[wgpu::VertexAttribute] = if geomorph { &both } else { &fine };
-                let buffers = [Some(wgpu::VertexBufferLayout {
-                    array_stride: stride,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes,
-                })];
-                let blend = (pass != PassKind::Opaque).then_some(wgpu::BlendState::ALPHA_BLENDING);
-                let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&format!("{pass:?} geomorph={geomorph} cull={cull}")),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some(if geomorph { "vs_geomorph" } else { "vs_level" }),
-                        compilation_options: Default::default(),
-                        buffers: &buffers,
+                let spec = Spec {
+                    geomorph,
+                    wire: false,
+                    cull,
+                    blend: pass != PassKind::Opaque,
+                    depth_write: pass != PassKind::BlendOver,
+                    // The fading level lies on the opaque one: equal depths must pass.
+                    depth_compare: if pass == PassKind::BlendOver {
+                        wgpu::CompareFunction::LessEqual
+                    } else {
+                        wgpu::CompareFunction::Less
                     },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        front_face: wgpu::FrontFace::Ccw,
-                        cull_mode: cull.then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(pass != PassKind::BlendOver),
-                        // The fading level lies on the opaque one: equal depths must pass.
-                        depth_compare: Some(if pass == PassKind::BlendOver {
-                            wgpu::CompareFunction::LessEqual
-                        } else {
-                            wgpu::CompareFunction::Less
-                        }),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: wgpu::MultisampleState {
-                        count: sample_count,
-                        mask: !0,
-                        alpha_to_coverage_enabled: false,
-                    },
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format: color_format,
-                            blend,
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
-                out.insert((pass, geomorph, cull), pipeline);
+                };
+                shaded.insert((pass, geomorph, cull), create(spec));
             }
         }
     }
-    out
+    // Lines blend over the shading and leave depth alone, so a level fading in keeps its own.
+    let wire = [false, true].map(|geomorph| {
+        create(Spec {
+            geomorph,
+            wire: true,
+            cull: false,
+            blend: true,
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::LessEqual,
+        })
+    });
+    Pipelines { shaded, wire }
 }

@@ -2,21 +2,29 @@
 //! bind group per material with its base-colour texture decoded by the browser.
 
 use super::*;
+use crate::render::overlay::edge_indices;
 
-/// Vertex and index buffers of a level; materials outside the table use the default material.
+/// Vertex and index buffers of a level, and its edges for the wireframe overlay; materials
+/// outside the table use the default material.
 pub(super) fn upload_level(device: &wgpu::Device, level: &LevelData, default_slot: usize) -> LevelGpu {
+    let edges = edge_indices(&level.indices);
+    let index_buffer = |label, indices: &[u32]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            // An empty buffer is valid but an empty init slice is not mappable everywhere.
+            contents: if indices.is_empty() { &[0; 4] } else { bytemuck::cast_slice(indices) },
+            usage: wgpu::BufferUsages::INDEX,
+        })
+    };
     LevelGpu {
         vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("level vertices"),
             contents: bytemuck::cast_slice(&level.vertices),
             usage: wgpu::BufferUsages::VERTEX,
         }),
-        indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("level indices"),
-            // An empty buffer is valid but an empty init slice is not mappable everywhere.
-            contents: if level.indices.is_empty() { &[0; 4] } else { bytemuck::cast_slice(&level.indices) },
-            usage: wgpu::BufferUsages::INDEX,
-        }),
+        indices: index_buffer("level indices", &level.indices),
+        edges: index_buffer("level edges", &edges),
+        edge_count: edges.len() as u32,
         ranges: level
             .ranges
             .iter()
