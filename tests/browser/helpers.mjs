@@ -161,3 +161,17 @@ export function measurePopSpike(page, nowMs, options = {}) {
 // A viewport for tests that draw many frames: a 668 × 223 canvas (three views about 220 px
 // square), a tenth of the default page's pixels, so SwiftShader draws it quickly.
 export const SMALL_VIEWPORT = { width: 700, height: 600 };
+
+// Mean |ΔRGB| per pixel of each view between the current picture with `state` applied and
+// without (the state is applied, a frame drawn at the same time, read back), then `undo` applied.
+// Returns `{ diffs: [3 numbers], pixels }` (the pixels with `state`).
+export async function viewChanges(page, nowMs, state, undo) {
+  const base = await frame(page, nowMs, undo);
+  const before = await readPixels(page);
+  const changed = await frame(page, nowMs, state);
+  if (changed.errors.length) throw new Error(changed.errors.join('\n'));
+  const pixels = await readPixels(page);
+  await frame(page, nowMs, undo);
+  const diffs = base.views.map((v) => meanAbsDiff(crop(before, v.rect), crop(pixels, v.rect)));
+  return { diffs, pixels };
+}

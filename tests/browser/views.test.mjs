@@ -1,7 +1,7 @@
 // (1) The page starts, says which backend runs, and all three views show the character.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, foregroundFraction, meanAbsDiff, savePng, SMALL_VIEWPORT, FINEST_TOLERANCE } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, foregroundFraction, meanAbsDiff, savePng, SMALL_VIEWPORT, FINEST_TOLERANCE, viewChanges } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -67,4 +67,20 @@ test('the continuous LOD slider: every view draws about n triangles, coarser n c
   const off = await frame(page, now += 16, { continuousTriangles: null });
   assert.equal(off.continuousTriangles, null);
   assert.equal(off.views[0].triangles, off.levels[0].triangles);
+});
+
+test('overlays change every view: wireframe lines and level colours', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const now = 1000;
+  const state = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
+  const rows = [];
+  for (const overlay of ['wireframe', 'levels']) {
+    const { diffs, pixels } = await viewChanges(page, now, { overlay }, { overlay: 'none' });
+    await savePng(`/tmp/clod-overlay-${overlay}.png`, pixels);
+    rows.push(`${overlay}: ${diffs.map((d) => d.toFixed(2)).join(', ')}`);
+    // A tenth of a level per pixel on average: lines or tints on the character, not rounding.
+    diffs.forEach((d, i) => assert.ok(d > 0.1, `${overlay} leaves view ${i} (${state.views[i].method}) unchanged: ${d}`));
+  }
+  console.log(`overlay changes, mean |ΔRGB| per pixel in each view: ${rows.join('; ')}`);
+  assert.equal((await frame(page, now)).overlay, 'none');
 });
