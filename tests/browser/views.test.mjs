@@ -84,3 +84,35 @@ test('overlays change every view: wireframe lines and level colours', async () =
   console.log(`overlay changes, mean |ΔRGB| per pixel in each view: ${rows.join('; ')}`);
   assert.equal((await frame(page, now)).overlay, 'none');
 });
+
+test('camera controls: pitch (clamped to ±85°), pan and resetCamera, reported in state()', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const now = 1000;
+  // The default camera (resetCamera's): yaw 30°, pitch 8.6°, no pan, distance 1.
+  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
+  const home = await readPixels(page);
+  const moved = await frame(page, now, { yaw: 75, pitch: 200, pan: [0.25, -0.1], distance: 2 });
+  assert.deepEqual([moved.yaw, moved.pitch, moved.distance], [75, 85, 2]);
+  assert.deepEqual(moved.pan.map((x) => Math.round(x * 100) / 100), [0.25, -0.1]);
+  const view = moved.views[0].rect;
+  const away = meanAbsDiff(crop(home, view), crop(await readPixels(page), view));
+  assert.ok(away > 1, `the camera moved but the picture did not: ${away}`);
+  assert.equal((await frame(page, now, { pitch: -90 })).pitch, -85);
+  const reset = await frame(page, now, { resetCamera: true });
+  for (const key of ['yaw', 'pitch', 'pan', 'distance']) assert.deepEqual(reset[key], start[key], key);
+  assert.equal(meanAbsDiff(crop(home, view), crop(await readPixels(page), view)), 0, 'reset shows the first picture again');
+  // Panning right moves the character left in the view.
+  await frame(page, now, { pan: [0.3, 0] });
+  const panned = await readPixels(page);
+  const centroid = (pixels) => {
+    const rgb = crop(pixels, view);
+    const [r, g, b] = [rgb[0], rgb[1], rgb[2]];
+    let sum = 0; let n = 0;
+    for (let i = 0; i < rgb.length; i += 3) {
+      if (Math.abs(rgb[i] - r) + Math.abs(rgb[i + 1] - g) + Math.abs(rgb[i + 2] - b) > 24) { sum += (i / 3) % view[2]; n++; }
+    }
+    return sum / n;
+  };
+  assert.ok(centroid(panned) < centroid(home) - 10, `pan right: centroid ${centroid(home)} → ${centroid(panned)}`);
+  await assert.rejects(page.evaluate(() => window.__clod.setState({ pan: [1] })), /pan must be/);
+});
