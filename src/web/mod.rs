@@ -143,10 +143,12 @@ impl Viewer {
 
     /// Advances the clocks to `now_ms` (milliseconds, e.g. `performance.now()`) and draws.
     ///
-    /// Throws only when called while `readPixels` is still running.
+    /// Throws only when called while `readPixels` or `measurePopSpike` is still running.
     pub fn frame(&self, now_ms: f64) -> Result<(), JsError> {
-        let mut inner =
-            self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy (readPixels running)"))?;
+        let mut inner = self
+            .inner
+            .try_borrow_mut()
+            .map_err(|_| JsError::new("viewer busy (readPixels or measurePopSpike running)"))?;
         inner.advance(now_ms);
         inner.draw();
         Ok(())
