@@ -1,18 +1,24 @@
 //! The shared orbit camera, its dolly, and the projection used by all three views.
 //!
-//! The camera looks at the character's centre from `distance` model units away, at a fixed
-//! elevation, turned `yaw` radians about model +Y (glTF's up). Projection is right-handed with
-//! depth in `[0, 1]` (wgpu's clip space). Distances are in the model's units.
+//! The camera looks at the character's centre (moved by `pan` in the view plane) from `distance`
+//! model units away, raised `pitch` radians above the horizontal and turned `yaw` radians about
+//! model +Y (glTF's up). Projection is right-handed with depth in `[0, 1]` (wgpu's clip space).
+//! Distances are in the model's units.
 
 use glam::camera::rh::{proj::directx, view};
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 /// Vertical field of view, radians: a normal lens (45°), so the pixel error of a level is what a
 /// viewer expects from its distance.
 pub const FOVY: f32 = std::f32::consts::FRAC_PI_4;
 
-/// Camera elevation above the horizontal, radians: slightly from above, as a character viewer.
-pub const PITCH: f32 = 0.15;
+/// Default camera elevation above the horizontal, radians: slightly from above, as a character
+/// viewer.
+pub const DEFAULT_PITCH: f32 = 0.15;
+
+/// Largest elevation either way, radians (85°): straight above or below, "up" and the view
+/// direction would be parallel and the look-at frame undefined.
+pub const MAX_PITCH: f32 = 85.0 * std::f32::consts::PI / 180.0;
 
 /// An orbit camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,13 +31,31 @@ pub struct OrbitCamera {
     pub distance: f32,
     /// Turn about +Y, radians; 0 looks along −Z from the +Z side (the glTF front).
     pub yaw: f32,
+    /// Elevation above the horizontal, radians; clamped to ±[`MAX_PITCH`] where used.
+    pub pitch: f32,
+    /// Shift of the point looked at along the view's right and up directions, model units.
+    pub pan: Vec2,
 }
 
 impl OrbitCamera {
+    /// Unit direction from the point looked at towards the eye.
+    fn back(&self) -> Vec3 {
+        let pitch = self.pitch.clamp(-MAX_PITCH, MAX_PITCH);
+        Vec3::new(pitch.cos() * self.yaw.sin(), pitch.sin(), pitch.cos() * self.yaw.cos())
+    }
+
+    /// The point looked at: `target` moved by `pan` in the view plane.
+    pub fn look_at(&self) -> Vec3 {
+        let back = self.back();
+        // |pitch| ≤ 85° keeps `back` away from ±Y, so the cross product is never near zero.
+        let right = Vec3::Y.cross(back).normalize();
+        let up = back.cross(right);
+        self.target + right * self.pan.x + up * self.pan.y
+    }
+
     /// Eye position in model space.
     pub fn eye(&self) -> Vec3 {
-        let dir = Vec3::new(PITCH.cos() * self.yaw.sin(), PITCH.sin(), PITCH.cos() * self.yaw.cos());
-        self.target + dir * self.distance
+        self.look_at() + self.back() * self.distance
     }
 
     /// `clip_from_model` for a view of the given aspect (width / height).
@@ -39,9 +63,12 @@ impl OrbitCamera {
     /// Near and far hug the character's sphere (depth precision), with the near plane never
     /// closer than 1 % of the distance so a camera inside the sphere still sees something.
     pub fn clip_from_model(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance - self.radius).max(self.distance * 0.01).max(1e-4);
-        let far = (self.distance + self.radius).max(near * 2.0);
-        let view_from_model = view::look_at_mat4(self.eye(), self.target, Vec3::Y);
+        let eye = self.eye();
+        // Depth range around the sphere at `target` (a pan moves the eye off the sphere's axis).
+        let centre = eye.distance(self.target);
+        let near = (centre - self.radius).max(self.distance * 0.01).max(1e-4);
+        let far = (centre + self.radius).max(near * 2.0);
+        let view_from_model = view::look_at_mat4(eye, self.look_at(), Vec3::Y);
         // wgpu's clip space is Direct3D's: y up, depth in [0, 1].
         directx::perspective(FOVY, aspect, near, far) * view_from_model
     }
@@ -74,12 +101,58 @@ mod tests {
 
     #[test]
     fn target_projects_to_the_view_centre() {
-        let cam = OrbitCamera { target: Vec3::new(1.0, 2.0, 3.0), radius: 1.0, distance: 5.0, yaw: 0.7 };
+        let cam = OrbitCamera {
+            target: Vec3::new(1.0, 2.0, 3.0),
+            radius: 1.0,
+            distance: 5.0,
+            yaw: 0.7,
+            pitch: DEFAULT_PITCH,
+            pan: Vec2::ZERO,
+        };
         let clip = cam.clip_from_model(1.5) * cam.target.extend(1.0);
         assert!((clip.x / clip.w).abs() < 1e-5 && (clip.y / clip.w).abs() < 1e-5);
         let depth = clip.z / clip.w;
         assert!(depth > 0.0 && depth < 1.0, "depth {depth}");
         assert!((cam.eye().distance(cam.target) - 5.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn pitch_raises_the_eye_and_is_clamped() {
+        let flat = OrbitCamera {
+            target: Vec3::ZERO,
+            radius: 1.0,
+            distance: 2.0,
+            yaw: 0.0,
+            pitch: 0.0,
+            pan: Vec2::ZERO,
+        };
+        assert!((flat.eye() - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6);
+        let above = OrbitCamera { pitch: std::f32::consts::FRAC_PI_6, ..flat };
+        assert!((above.eye().y - 1.0).abs() < 1e-6, "sin 30° × 2 = 1: {}", above.eye());
+        let over = OrbitCamera { pitch: 3.0, ..flat };
+        assert!((over.eye().y - 2.0 * MAX_PITCH.sin()).abs() < 1e-6);
+        assert!(over.clip_from_model(1.0).is_finite());
+    }
+
+    #[test]
+    fn pan_moves_the_view_in_its_own_plane() {
+        // Looking along −Z from +Z: right is +X and up is +Y.
+        let cam = OrbitCamera {
+            target: Vec3::ZERO,
+            radius: 1.0,
+            distance: 4.0,
+            yaw: 0.0,
+            pitch: 0.0,
+            pan: Vec2::new(0.5, -0.25),
+        };
+        assert!((cam.look_at() - Vec3::new(0.5, -0.25, 0.0)).length() < 1e-6);
+        assert!((cam.eye() - Vec3::new(0.5, -0.25, 4.0)).length() < 1e-6);
+        // The panned point projects to the view centre; the target to its left and above.
+        let clip_from_model = cam.clip_from_model(1.0);
+        let centre = clip_from_model * cam.look_at().extend(1.0);
+        assert!((centre.x / centre.w).abs() < 1e-6 && (centre.y / centre.w).abs() < 1e-6);
+        let target = clip_from_model * Vec3::ZERO.extend(1.0);
+        assert!(target.x / target.w < 0.0 && target.y / target.w > 0.0);
     }
 
     #[test]

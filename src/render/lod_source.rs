@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::character::Character;
-use crate::clod::Clod;
+use crate::clod::{ArticulatedPm, Clod};
 use crate::mesh::PrimitiveRange;
 use crate::progressive::PmCursor;
 
@@ -27,7 +27,8 @@ pub struct VertexRaw {
     pub weights: [f32; 4],
 }
 
-/// A vertex and its ancestor (`GeomorphVertex` in `skin.wgsl`, locations 0..5 and 6..11).
+/// A vertex and its ancestor (`LevelVertex` and `AncestorVertex` in `skin.wgsl`, locations 0..5
+/// and 6..11).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GeomorphVertexRaw {
@@ -46,7 +47,19 @@ pub struct Attributes<'a> {
     pub weights: &'a [[f32; 4]],
 }
 
-impl Attributes<'_> {
+impl<'a> Attributes<'a> {
+    /// The bind-space attributes of an articulated progressive mesh, by vertex id.
+    fn of_apm(apm: &'a ArticulatedPm) -> Self {
+        Self {
+            positions: &apm.bind_positions,
+            normals: &apm.bind_normals,
+            uvs: apm.uvs.as_deref(),
+            colors: apm.colors.as_deref(),
+            joints: &apm.joints,
+            weights: &apm.weights,
+        }
+    }
+
     fn vertex(&self, id: usize) -> VertexRaw {
         VertexRaw {
             position: self.positions[id].to_array(),
@@ -109,14 +122,7 @@ impl LodSource {
     /// (the simplifier keeps material borders, so all three corners agree).
     pub fn from_clod(character: &Character, clod: &Clod) -> Self {
         let apm = &clod.apm;
-        let attributes = Attributes {
-            positions: &apm.bind_positions,
-            normals: &apm.bind_normals,
-            uvs: apm.uvs.as_deref(),
-            colors: apm.colors.as_deref(),
-            joints: &apm.joints,
-            weights: &apm.weights,
-        };
+        let attributes = Attributes::of_apm(apm);
         let materials_of = clod_materials(character, clod);
         let levels = clod
             .levels
@@ -145,14 +151,7 @@ impl LodSource {
     /// continuous LOD slider's mesh.
     pub fn from_cursor(character: &Character, clod: &Clod, cursor: &PmCursor) -> LevelData {
         let apm = &clod.apm;
-        let attributes = Attributes {
-            positions: &apm.bind_positions,
-            normals: &apm.bind_normals,
-            uvs: apm.uvs.as_deref(),
-            colors: apm.colors.as_deref(),
-            joints: &apm.joints,
-            weights: &apm.weights,
-        };
+        let attributes = Attributes::of_apm(apm);
         let materials = clod_materials(character, clod)(cursor.vertices(), cursor.indices());
         let error = apm.pm.distance_after(cursor.level());
         build_level(&attributes, cursor.vertices(), cursor.vertices(), cursor.indices(), &materials, error)

@@ -10,7 +10,9 @@
 pub mod camera;
 pub mod layout;
 pub mod lod_source;
+pub mod overlay;
 pub mod plan;
+pub mod pop_spike;
 pub mod schedule;
 pub mod uniforms;
 

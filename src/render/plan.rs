@@ -21,7 +21,8 @@ pub enum Method {
 /// The alpha-blending variants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BlendVariant {
-    /// Both levels translucent (`1 − t` and `t`), both writing depth: the background shows through.
+    /// Both levels translucent (`1 − t` and `t`), both writing depth, the more opaque drawn first:
+    /// the background shows through mid-fade.
     Naive,
     /// The dominant level opaque, the other blended over it without writing depth (Giegl & Wimmer
     /// 2007, "Unpopping"): the fading level goes 0 → 1 over the first half, then they swap.
@@ -95,10 +96,18 @@ pub fn plan_view(method: Method, schedule: &Schedule, levels: usize) -> ViewPlan
     let draws = match method {
         Method::Popping => unreachable!("handled above"),
         Method::Geomorph => vec![DrawCall { morph_t: Some(t), ..DrawCall::opaque(fine) }],
-        Method::AlphaBlend(BlendVariant::Naive) => vec![
-            DrawCall::blended(fine, PassKind::BlendNaive, 1.0 - t),
-            DrawCall::blended(coarse, PassKind::BlendNaive, t),
-        ],
+        Method::AlphaBlend(BlendVariant::Naive) => {
+            // The more opaque level first: both write depth, so the second shows only where it is
+            // in front. Drawn the other way round, a nearly transparent fine level would hide the
+            // nearly opaque coarse one at the end of the fade, and the finish would pop.
+            let fine_draw = DrawCall::blended(fine, PassKind::BlendNaive, 1.0 - t);
+            let coarse_draw = DrawCall::blended(coarse, PassKind::BlendNaive, t);
+            if t < 0.5 {
+                vec![fine_draw, coarse_draw]
+            } else {
+                vec![coarse_draw, fine_draw]
+            }
+        }
         Method::AlphaBlend(BlendVariant::OpaqueFirst) => {
             if t < 0.5 {
                 vec![DrawCall::opaque(fine), DrawCall::blended(coarse, PassKind::BlendOver, 2.0 * t)]
@@ -150,6 +159,12 @@ mod tests {
         assert_eq!(
             naive.draws.iter().map(|d| (d.level, d.opacity)).collect::<Vec<_>>(),
             [(0, 0.75), (1, 0.25)]
+        );
+        let late_naive = plan_view(Method::AlphaBlend(BlendVariant::Naive), &at(1, 0.75), 2);
+        assert_eq!(
+            late_naive.draws.iter().map(|d| (d.level, d.opacity)).collect::<Vec<_>>(),
+            [(1, 0.75), (0, 0.25)],
+            "the more opaque level first"
         );
         let early = plan_view(Method::AlphaBlend(BlendVariant::OpaqueFirst), &at(1, 0.25), 2);
         assert_eq!(early.draws[0], DrawCall::opaque(0));

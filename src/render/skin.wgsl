@@ -4,7 +4,8 @@
 // Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame.
 // `vs_level` draws one level as it is; `vs_geomorph` also reads each vertex's ancestor in the next
 // coarser level (the same attributes, locations 6..11), skins both and interpolates by `draw.morph_t`
-// (0 = exactly the fine level, 1 = exactly the coarse one). Lighting is in model space: a hemisphere
+// (0 = exactly the fine level, 1 = exactly the coarse one). The `vs_wire_*` twins and `fs_wire` draw
+// the wireframe overlay from line-list index buffers over the same vertices. Lighting is in model space: a hemisphere
 // ambient plus one directional light, Lambert diffuse and a little Blinn-Phong. Colours are linear;
 // the target is sRGB, or the shader encodes when `camera.encode_srgb` is 1.
 
@@ -51,6 +52,8 @@ struct Draw {
     _pad1: f32,
     // Top-left of the view in framebuffer pixels, so every view dithers with the same pattern.
     viewport_origin: vec2<f32>,
+    // Level overlay: linear RGB and how much of the surface colour it replaces (0: none).
+    tint: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -69,19 +72,11 @@ struct LevelVertex {
     @location(5) weights: vec4<f32>,
 };
 
-struct GeomorphVertex {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) color: vec4<f32>,
-    @location(4) joints: vec4<u32>,
-    @location(5) weights: vec4<f32>,
-    @location(6) coarse_position: vec3<f32>,
-    @location(7) coarse_normal: vec3<f32>,
-    @location(8) coarse_uv: vec2<f32>,
-    @location(9) coarse_color: vec4<f32>,
-    @location(10) coarse_joints: vec4<u32>,
-    @location(11) coarse_weights: vec4<f32>,
+// The ancestor's attributes, in `LevelVertex`'s order, at locations 6..11.
+struct AncestorVertex {
+    @location(6) position: vec3<f32>, @location(7) normal: vec3<f32>,
+    @location(8) uv: vec2<f32>, @location(9) color: vec4<f32>,
+    @location(10) joints: vec4<u32>, @location(11) weights: vec4<f32>,
 };
 
 struct Varyings {
@@ -110,8 +105,7 @@ fn finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32
     return out;
 }
 
-@vertex
-fn vs_level(v: LevelVertex) -> Varyings {
+fn level_varyings(v: LevelVertex) -> Varyings {
     let m = blend_matrix(v.joints, v.weights);
     let p = (m * vec4<f32>(v.position, 1.0)).xyz;
     // No non-uniform scale in skins we accept, so the upper 3x3 transforms normals too.
@@ -119,15 +113,45 @@ fn vs_level(v: LevelVertex) -> Varyings {
     return finish(p, n, v.uv, v.color);
 }
 
-@vertex
-fn vs_geomorph(v: GeomorphVertex) -> Varyings {
+fn geomorph_varyings(v: LevelVertex, a: AncestorVertex) -> Varyings {
     let fine = blend_matrix(v.joints, v.weights);
-    let coarse = blend_matrix(v.coarse_joints, v.coarse_weights);
+    let coarse = blend_matrix(a.joints, a.weights);
     let t = draw.morph_t;
     // mix(a, b, t) = a * (1 - t) + b * t: exactly a at t = 0 and exactly b at t = 1.
-    let p = mix((fine * vec4<f32>(v.position, 1.0)).xyz, (coarse * vec4<f32>(v.coarse_position, 1.0)).xyz, t);
-    let n = mix((fine * vec4<f32>(v.normal, 0.0)).xyz, (coarse * vec4<f32>(v.coarse_normal, 0.0)).xyz, t);
-    return finish(p, n, mix(v.uv, v.coarse_uv, t), mix(v.color, v.coarse_color, t));
+    let p = mix((fine * vec4<f32>(v.position, 1.0)).xyz, (coarse * vec4<f32>(a.position, 1.0)).xyz, t);
+    let n = mix((fine * vec4<f32>(v.normal, 0.0)).xyz, (coarse * vec4<f32>(a.normal, 0.0)).xyz, t);
+    return finish(p, n, mix(v.uv, a.uv, t), mix(v.color, a.color, t));
+}
+
+// Wireframe lines lie on their own triangles: pulled this fraction of w towards the eye (about
+// 1e-4 of the depth range hugging the character), they win the depth test against them.
+// Depth bias would be the usual tool, but WebGPU allows it on triangles only.
+const WIRE_DEPTH_PULL: f32 = 0.0002;
+
+fn pulled(v: Varyings) -> Varyings {
+    var out = v;
+    out.clip.z = max(v.clip.z - WIRE_DEPTH_PULL * v.clip.w, 0.0);
+    return out;
+}
+
+@vertex
+fn vs_level(v: LevelVertex) -> Varyings {
+    return level_varyings(v);
+}
+
+@vertex
+fn vs_geomorph(v: LevelVertex, a: AncestorVertex) -> Varyings {
+    return geomorph_varyings(v, a);
+}
+
+@vertex
+fn vs_wire_level(v: LevelVertex) -> Varyings {
+    return pulled(level_varyings(v));
+}
+
+@vertex
+fn vs_wire_geomorph(v: LevelVertex, a: AncestorVertex) -> Varyings {
+    return pulled(geomorph_varyings(v, a));
 }
 
 // 4x4 Bayer matrix, thresholds (k + 0.5) / 16 so no pixel sits exactly on 0 or 1.
@@ -135,6 +159,16 @@ fn bayer_threshold(pixel: vec2<u32>) -> f32 {
     var m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
     let k = m[(pixel.y % 4u) * 4u + pixel.x % 4u];
     return (f32(k) + 0.5) / 16.0;
+}
+
+// Whether the draw's screen-door mask drops the fragment at framebuffer position `xy`.
+fn dithered_out(xy: vec2<f32>) -> bool {
+    if (draw.dither_mode == 0u) {
+        return false;
+    }
+    let pixel = vec2<u32>(max(xy - draw.viewport_origin, vec2<f32>(0.0)));
+    let below = bayer_threshold(pixel) < draw.dither_threshold;
+    return below != (draw.dither_mode == 1u);
 }
 
 fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
@@ -151,12 +185,8 @@ fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> @location(0) vec
     if (base.a < material.alpha_cutoff) {
         discard;
     }
-    if (draw.dither_mode != 0u) {
-        let pixel = vec2<u32>(max(in.clip.xy - draw.viewport_origin, vec2<f32>(0.0)));
-        let below = bayer_threshold(pixel) < draw.dither_threshold;
-        if (below != (draw.dither_mode == 1u)) {
-            discard;
-        }
+    if (dithered_out(in.clip.xy)) {
+        discard;
     }
     var n = normalize(in.normal);
     if (!front && material.double_sided == 1u) {
@@ -170,9 +200,24 @@ fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> @location(0) vec
     let h = normalize(l + view);
     // A little Blinn-Phong: exponent 32 and strength 0.12 keep skin and cloth from looking plastic.
     let specular = select(0.0, 0.12 * pow(max(dot(n, h), 0.0), 32.0), n_dot_l > 0.0);
-    var rgb = base.rgb * (ambient + n_dot_l * camera.light_dir.w) + vec3<f32>(specular * camera.light_dir.w);
+    // The level overlay's tint replaces part of the surface colour (strength 0 without it).
+    let albedo = mix(base.rgb, draw.tint.rgb, draw.tint.w);
+    var rgb = albedo * (ambient + n_dot_l * camera.light_dir.w) + vec3<f32>(specular * camera.light_dir.w);
     if (camera.encode_srgb == 1u) {
         rgb = srgb_encode(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)));
     }
     return vec4<f32>(rgb, draw.opacity);
+}
+
+// Wireframe lines: near-black, half covering the shading, faded with their draw.
+@fragment
+fn fs_wire(in: Varyings) -> @location(0) vec4<f32> {
+    if (dithered_out(in.clip.xy)) {
+        discard;
+    }
+    var rgb = vec3<f32>(0.01, 0.012, 0.02);
+    if (camera.encode_srgb == 1u) {
+        rgb = srgb_encode(rgb);
+    }
+    return vec4<f32>(rgb, 0.6 * draw.opacity);
 }

@@ -59,6 +59,8 @@ pub struct DrawRaw {
     pub dither_threshold: f32,
     pub _pad1: f32,
     pub viewport_origin: [f32; 2],
+    /// Level overlay: linear RGB and the share of the surface colour it replaces (0: none).
+    pub tint: [f32; 4],
 }
 
 /// The WGSL struct name each mirror stands for, with the mirror's size: what `tests/shaders.rs`

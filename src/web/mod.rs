@@ -8,6 +8,7 @@
 //! to and reported by the page are multiples of the *framing distance* (the character's bounding
 //! sphere fills the view's height at 1).
 
+mod pop_spike;
 mod settings;
 
 use std::cell::RefCell;
@@ -132,7 +133,14 @@ impl Viewer {
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(js_error)?;
         let (center, radius) = rest_sphere(&character);
         let framing = camera::framing_distance(radius);
-        let camera = OrbitCamera { target: center, radius, distance: framing, yaw: 0.0 };
+        let camera = OrbitCamera {
+            target: center,
+            radius,
+            distance: framing,
+            yaw: 0.0,
+            pitch: camera::DEFAULT_PITCH,
+            pan: glam::Vec2::ZERO,
+        };
         let (w, h) = renderer.size();
         let empty = ViewPlan { draws: Vec::new(), level: 0, t: 0.0 };
         let inner = Inner {
@@ -163,10 +171,12 @@ impl Viewer {
 
     /// Advances the clocks to `now_ms` (milliseconds, e.g. `performance.now()`) and draws.
     ///
-    /// Throws only when called while `readPixels` is still running.
+    /// Throws only when called while `readPixels` or `measurePopSpike` is still running.
     pub fn frame(&self, now_ms: f64) -> Result<(), JsError> {
-        let mut inner =
-            self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy (readPixels running)"))?;
+        let mut inner = self
+            .inner
+            .try_borrow_mut()
+            .map_err(|_| JsError::new("viewer busy (readPixels or measurePopSpike running)"))?;
         inner.advance(now_ms);
         inner.draw();
         Ok(())
@@ -185,10 +195,15 @@ impl Viewer {
     /// Changes settings; unknown keys are an error (a typo should not pass silently).
     /// Keys: `paused`, `time` (animation seconds), `speed`, `clip`, `distanceMode`
     /// (`"dolly"|"manual"`), `distance` (× framing distance), `dollyPeriod`, `yaw` (degrees),
+    /// `pitch` (degrees, clamped to ±85), `pan` (`[x, y]`, × framing distance, moves the point
+    /// looked at along the view's right and up), `resetCamera` (`true`: yaw, pitch, pan and the
+    /// manual distance back to their defaults, before the call's other keys),
     /// `tolerance` (pixels), `hysteresis` (fraction), `transition` (`"time"|"distance"`),
     /// `duration` (seconds per level), `zone` (fraction), `variant`
     /// (`"naive"|"opaque-first"|"dither"`), `methods` (one to three of
-    /// `"popping"|"alpha"|"geomorph"`), `continuousTriangles` (number, or null for off).
+    /// `"popping"|"alpha"|"geomorph"`: the views, in order), `continuousTriangles` (number, or null
+    /// for off), `overlay` (`"none"|"wireframe"|"levels"`: triangle edges, or a colour per level, on
+    /// every view).
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
         let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
@@ -229,7 +244,12 @@ impl Viewer {
         wasm_bindgen_futures::future_to_promise(async move {
             let guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
             let views = guard.frame_views();
-            let input = FrameInput { camera: guard.camera_raw, skin: &guard.skin, views };
+            let input = FrameInput {
+                camera: guard.camera_raw,
+                skin: &guard.skin,
+                views,
+                overlay: guard.settings.overlay,
+            };
             let pixels =
                 guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
             let out = js_sys::Object::new();
@@ -294,6 +314,8 @@ impl Inner {
         });
         self.camera.distance = self.distance;
         self.camera.yaw = s.yaw_degrees.to_radians();
+        self.camera.pitch = s.pitch_degrees.to_radians();
+        self.camera.pan = glam::Vec2::from(s.pan) * self.framing;
         self.camera_raw = camera_raw(&self.camera, self.layout.views[0].aspect());
         let pose = match s.clip.and_then(|c| self.character.clips.get(c)) {
             Some(clip) => self.character.pose_at(clip, self.anim_time as f32),
@@ -308,7 +330,8 @@ impl Inner {
 
     fn draw(&mut self) {
         let views = self.frame_views();
-        let input = FrameInput { camera: self.camera_raw, skin: &self.skin, views };
+        let input =
+            FrameInput { camera: self.camera_raw, skin: &self.skin, views, overlay: self.settings.overlay };
         self.renderer.render(&input);
         self.frames += 1;
     }
@@ -374,7 +397,8 @@ impl Inner {
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},",
-                "\"selected\":{},\"coordinate\":{},\"distanceMode\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -396,13 +420,15 @@ impl Inner {
             self.built_off_main_thread,
             self.schedule.selected,
             num(self.schedule.coordinate),
-            json_str(match s.distance_mode {
-                DistanceMode::Dolly => "dolly",
-                DistanceMode::Manual => "manual",
-            }),
             num(self.distance / self.framing),
             num(self.anim_time as f32),
             s.paused,
+            num(s.yaw_degrees),
+            num(s.pitch_degrees),
+            num(s.pan[0]),
+            num(s.pan[1]),
+            json_str(if s.distance_mode == DistanceMode::Manual { "manual" } else { "dolly" }),
+            json_str(settings::overlay_name(s.overlay)),
             s.continuous_triangles.map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
             self.layout.stacked,

@@ -3,6 +3,8 @@
 
 use wasm_bindgen::JsValue;
 
+use crate::render::camera;
+use crate::render::overlay::Overlay;
 use crate::render::plan::{BlendVariant, Method};
 use crate::render::schedule::TransitionMode;
 
@@ -27,6 +29,10 @@ pub struct Settings {
     pub manual_distance: f32,
     pub dolly_period: f32,
     pub yaw_degrees: f32,
+    /// Camera elevation, degrees, within ±85 (see [`crate::render::camera::MAX_PITCH`]).
+    pub pitch_degrees: f32,
+    /// Shift of the point looked at along the view's right and up, in framing distances.
+    pub pan: [f32; 2],
     pub tolerance_px: f32,
     pub hysteresis: f32,
     pub transition: TransitionMode,
@@ -38,6 +44,8 @@ pub struct Settings {
     pub view_count: usize,
     /// Triangle count of the continuous level drawn by every view, when on.
     pub continuous_triangles: Option<u32>,
+    /// Drawn over every view alike.
+    pub overlay: Overlay,
 }
 
 impl Default for Settings {
@@ -53,6 +61,8 @@ impl Default for Settings {
             dolly_period: 16.0,
             // A three-quarter view shows silhouette and face at once.
             yaw_degrees: 30.0,
+            pitch_degrees: camera::DEFAULT_PITCH.to_degrees(),
+            pan: [0.0; 2],
             // Two pixels: level changes are visible as pops but the picture stays faithful.
             tolerance_px: 2.0,
             // 10 %: a camera hovering at a switch distance does not flicker between levels.
@@ -63,6 +73,7 @@ impl Default for Settings {
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             view_count: 3,
             continuous_triangles: None,
+            overlay: Overlay::None,
         }
     }
 }
@@ -78,6 +89,11 @@ pub struct Update {
     pub distance: Option<f32>,
     pub dolly_period: Option<f32>,
     pub yaw: Option<f32>,
+    /// Degrees, already clamped to ±85.
+    pub pitch: Option<f32>,
+    pub pan: Option<[f32; 2]>,
+    /// Puts yaw, pitch, pan and the manual distance back to their defaults before the other keys.
+    pub reset_camera: bool,
     pub tolerance: Option<f32>,
     pub hysteresis: Option<f32>,
     pub transition: Option<String>,
@@ -86,6 +102,7 @@ pub struct Update {
     pub variant: Option<BlendVariant>,
     /// The methods of the first views and how many views there are.
     pub methods: Option<([Method; 3], usize)>,
+    pub overlay: Option<Overlay>,
     /// `Some(None)` turns the continuous level off.
     pub continuous_triangles: Option<Option<u32>>,
 }
@@ -100,6 +117,13 @@ impl Update {
                 }
             };
         }
+        if self.reset_camera {
+            let d = Settings::default();
+            s.yaw_degrees = d.yaw_degrees;
+            s.pitch_degrees = d.pitch_degrees;
+            s.pan = d.pan;
+            s.manual_distance = d.manual_distance;
+        }
         set!(paused, self.paused);
         set!(speed, self.speed);
         set!(clip, self.clip);
@@ -107,8 +131,11 @@ impl Update {
         set!(manual_distance, self.distance);
         set!(dolly_period, self.dolly_period);
         set!(yaw_degrees, self.yaw);
+        set!(pitch_degrees, self.pitch);
+        set!(pan, self.pan);
         set!(tolerance_px, self.tolerance);
         set!(hysteresis, self.hysteresis);
+        set!(overlay, self.overlay);
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
             s.distance_mode = DistanceMode::Manual;
@@ -161,6 +188,24 @@ pub fn get(obj: &JsValue, key: &str) -> Option<JsValue> {
     (!value.is_undefined() && !value.is_null()).then_some(value)
 }
 
+/// The page's name of an overlay.
+pub fn overlay_name(o: Overlay) -> &'static str {
+    match o {
+        Overlay::None => "none",
+        Overlay::Wireframe => "wireframe",
+        Overlay::Levels => "levels",
+    }
+}
+
+/// The page's name of an alpha-blending variant.
+pub fn variant_name(v: BlendVariant) -> &'static str {
+    match v {
+        BlendVariant::Naive => "naive",
+        BlendVariant::OpaqueFirst => "opaque-first",
+        BlendVariant::Dither => "dither",
+    }
+}
+
 /// `obj[key]` as a string, when it is one.
 pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     if !obj.is_object() {
@@ -169,7 +214,7 @@ pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     js_sys::Reflect::get(obj, &key.into()).ok()?.as_string()
 }
 
-const KEYS: [&str; 16] = [
+const KEYS: [&str; 20] = [
     "paused",
     "time",
     "speed",
@@ -178,6 +223,9 @@ const KEYS: [&str; 16] = [
     "distance",
     "dollyPeriod",
     "yaw",
+    "pitch",
+    "pan",
+    "resetCamera",
     "tolerance",
     "hysteresis",
     "transition",
@@ -186,6 +234,7 @@ const KEYS: [&str; 16] = [
     "variant",
     "methods",
     "continuousTriangles",
+    "overlay",
 ];
 
 /// Reads a `setState` object.
@@ -242,6 +291,27 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "distance" => u.distance = Some(number(0.1, 1000.0)? as f32),
             "dollyPeriod" => u.dolly_period = Some(number(0.0, 3600.0)? as f32),
             "yaw" => u.yaw = Some(number(-3600.0, 3600.0)? as f32),
+            "pitch" => {
+                let limit = camera::MAX_PITCH.to_degrees();
+                u.pitch = Some((number(-3600.0, 3600.0)? as f32).clamp(-limit, limit))
+            }
+            // A hundred framing distances either way: far beyond, the character is off every view.
+            "pan" => {
+                let pair = value.clone().dyn_into::<js_sys::Array>().ok().filter(|a| a.length() == 2);
+                let xy = pair.map(|a| [a.get(0).as_f64(), a.get(1).as_f64()]);
+                u.pan = match xy {
+                    Some([Some(x), Some(y)]) if x.abs() <= 100.0 && y.abs() <= 100.0 => {
+                        Some([x as f32, y as f32])
+                    }
+                    _ => {
+                        return Err(format!("pan must be [x, y] with numbers in [-100, 100], got {value:?}"))
+                    }
+                }
+            }
+            "resetCamera" => {
+                u.reset_camera =
+                    value.as_bool().ok_or_else(|| "resetCamera must be true or false".to_string())?
+            }
             "tolerance" => u.tolerance = Some(number(0.01, 1000.0)? as f32),
             "hysteresis" => u.hysteresis = Some(number(0.0, 10.0)? as f32),
             "transition" => {
@@ -279,6 +349,18 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "continuousTriangles" => {
                 u.continuous_triangles =
                     Some(if value.is_null() { None } else { Some(number(1.0, 1e9)? as u32) })
+            }
+            "overlay" => {
+                u.overlay = Some(match text()?.as_str() {
+                    "none" => Overlay::None,
+                    "wireframe" => Overlay::Wireframe,
+                    "levels" => Overlay::Levels,
+                    other => {
+                        return Err(format!(
+                            "overlay must be \"none\", \"wireframe\" or \"levels\", got {other:?}"
+                        ))
+                    }
+                })
             }
             _ => unreachable!("checked against KEYS"),
         }

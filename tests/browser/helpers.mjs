@@ -139,3 +139,39 @@ export function tuneTolerance(state, k, switchAt) {
   if (!(current > 0)) throw new Error(`level ${k} has no switch distance: ${JSON.stringify(state.switch)}`);
   return FINEST_TOLERANCE * current / switchAt;
 }
+
+// `viewer.measurePopSpike(options)` on the page's viewer (see src/web/pop_spike.rs). Uses the test
+// hook's method when the page exposes one; otherwise finds the viewer by wrapping
+// `Viewer.prototype.frame` of the page's own wasm module (the same module instance: same URL) and
+// drawing one frame at `nowMs` (the time of the last frame, so the clocks do not move).
+export function measurePopSpike(page, nowMs, options = {}) {
+  return page.evaluate(async ([o, now]) => {
+    if (window.__clod.measurePopSpike) return window.__clod.measurePopSpike(o);
+    if (!window.__clodViewer) {
+      const build = window.__clod.state().backend === 'webgpu' ? 'pkg' : 'pkg-webgl';
+      const { Viewer } = await import(new URL(`${build}/clod_viewer.js`, location.href).href);
+      const frame = Viewer.prototype.frame;
+      Viewer.prototype.frame = function (t) { window.__clodViewer = this; return frame.call(this, t); };
+      try { window.__clod.renderFrame(now); } finally { Viewer.prototype.frame = frame; }
+    }
+    return window.__clodViewer.measurePopSpike(o);
+  }, [options, nowMs]);
+}
+
+// A viewport for tests that draw many frames: a 668 × 223 canvas (three views about 220 px
+// square), a tenth of the default page's pixels, so SwiftShader draws it quickly.
+export const SMALL_VIEWPORT = { width: 700, height: 600 };
+
+// Mean |ΔRGB| per pixel of each view between the current picture with `state` applied and
+// without (the state is applied, a frame drawn at the same time, read back), then `undo` applied.
+// Returns `{ diffs: [3 numbers], pixels }` (the pixels with `state`).
+export async function viewChanges(page, nowMs, state, undo) {
+  const base = await frame(page, nowMs, undo);
+  const before = await readPixels(page);
+  const changed = await frame(page, nowMs, state);
+  if (changed.errors.length) throw new Error(changed.errors.join('\n'));
+  const pixels = await readPixels(page);
+  await frame(page, nowMs, undo);
+  const diffs = base.views.map((v) => meanAbsDiff(crop(before, v.rect), crop(pixels, v.rect)));
+  return { diffs, pixels };
+}

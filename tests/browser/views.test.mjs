@@ -1,7 +1,7 @@
 // (1) The page starts, says which backend runs, and all three views show the character.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, foregroundFraction, savePng, baseUrl } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, foregroundFraction, meanAbsDiff, savePng, SMALL_VIEWPORT, FINEST_TOLERANCE, viewChanges, baseUrl } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -47,4 +47,82 @@ test('a model URL that does not exist leaves the page in the error state with a 
   await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 60_000 });
   assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'error');
   assert.match(await page.locator('[role=alert]').textContent(), /no-such-model\.glb: HTTP 404/);
+});
+
+test('the continuous LOD slider: every view draws about n triangles, coarser n change the picture more', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  let now = 1000;
+  // The finest level in every view (a tolerance so small that the schedule never coarsens).
+  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
+  assert.equal(start.views[0].triangles, start.maxTriangles);
+  const finest = crop(await readPixels(page), start.views[0].rect);
+  const rows = [];
+  let previous = 0;
+  for (const n of [20000, 5000, 2000, 1000]) {
+    const state = await frame(page, now += 16, { continuousTriangles: n });
+    // The progressive mesh moves one collapse (one or two triangles) at a time.
+    assert.ok(Math.abs(state.continuousTriangles - n) <= 2, `asked ${n}, got ${state.continuousTriangles}`);
+    for (const view of state.views) assert.equal(view.triangles, state.continuousTriangles);
+    const pixels = await readPixels(page);
+    const crops = state.views.map((v) => crop(pixels, v.rect));
+    crops.forEach((c, i) => assert.ok(foregroundFraction(c) > 0.03, `view ${i} is nearly empty at ${n} triangles`));
+    const diff = meanAbsDiff(finest, crops[0]);
+    rows.push(`${state.continuousTriangles}: ${diff.toFixed(3)}`);
+    // Monotonic up to noise: fewer triangles never look much closer to the full mesh.
+    assert.ok(diff >= 0.8 * previous, `the picture at ${n} triangles is closer to the full mesh (${rows})`);
+    previous = diff;
+  }
+  console.log(`continuous LOD, mean |ΔRGB| per pixel from the full mesh: ${rows.join(', ')}`);
+  assert.ok(previous > 0, 'the coarsest continuous mesh changes the picture');
+  const off = await frame(page, now += 16, { continuousTriangles: null });
+  assert.equal(off.continuousTriangles, null);
+  assert.equal(off.views[0].triangles, off.levels[0].triangles);
+});
+
+test('overlays change every view: wireframe lines and level colours', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const now = 1000;
+  const state = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
+  const rows = [];
+  for (const overlay of ['wireframe', 'levels']) {
+    const { diffs, pixels } = await viewChanges(page, now, { overlay }, { overlay: 'none' });
+    await savePng(`/tmp/clod-overlay-${overlay}.png`, pixels);
+    rows.push(`${overlay}: ${diffs.map((d) => d.toFixed(2)).join(', ')}`);
+    // A tenth of a level per pixel on average: lines or tints on the character, not rounding.
+    diffs.forEach((d, i) => assert.ok(d > 0.1, `${overlay} leaves view ${i} (${state.views[i].method}) unchanged: ${d}`));
+  }
+  console.log(`overlay changes, mean |ΔRGB| per pixel in each view: ${rows.join('; ')}`);
+  assert.equal((await frame(page, now)).overlay, 'none');
+});
+
+test('camera controls: pitch (clamped to ±85°), pan and resetCamera, reported in state()', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const now = 1000;
+  // The default camera (resetCamera's): yaw 30°, pitch 8.6°, no pan, distance 1.
+  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
+  const home = await readPixels(page);
+  const moved = await frame(page, now, { yaw: 75, pitch: 200, pan: [0.25, -0.1], distance: 2 });
+  assert.deepEqual([moved.yaw, moved.pitch, moved.distance], [75, 85, 2]);
+  assert.deepEqual(moved.pan.map((x) => Math.round(x * 100) / 100), [0.25, -0.1]);
+  const view = moved.views[0].rect;
+  const away = meanAbsDiff(crop(home, view), crop(await readPixels(page), view));
+  assert.ok(away > 1, `the camera moved but the picture did not: ${away}`);
+  assert.equal((await frame(page, now, { pitch: -90 })).pitch, -85);
+  const reset = await frame(page, now, { resetCamera: true });
+  for (const key of ['yaw', 'pitch', 'pan', 'distance']) assert.deepEqual(reset[key], start[key], key);
+  assert.equal(meanAbsDiff(crop(home, view), crop(await readPixels(page), view)), 0, 'reset shows the first picture again');
+  // Panning right moves the character left in the view.
+  await frame(page, now, { pan: [0.3, 0] });
+  const panned = await readPixels(page);
+  const centroid = (pixels) => {
+    const rgb = crop(pixels, view);
+    const [r, g, b] = [rgb[0], rgb[1], rgb[2]];
+    let sum = 0; let n = 0;
+    for (let i = 0; i < rgb.length; i += 3) {
+      if (Math.abs(rgb[i] - r) + Math.abs(rgb[i + 1] - g) + Math.abs(rgb[i + 2] - b) > 24) { sum += (i / 3) % view[2]; n++; }
+    }
+    return sum / n;
+  };
+  assert.ok(centroid(panned) < centroid(home) - 10, `pan right: centroid ${centroid(home)} → ${centroid(panned)}`);
+  await assert.rejects(page.evaluate(() => window.__clod.setState({ pan: [1] })), /pan must be/);
 });

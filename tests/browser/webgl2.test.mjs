@@ -2,14 +2,14 @@
 // SwiftShader here; rasterization rules match, so only rounding differs).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, readPixels, crop, meanAbsDiff, foregroundFraction, clock, midTransition, savePng } from './helpers.mjs';
+import { launch, openPage, readPixels, crop, meanAbsDiff, foregroundFraction, clock, midTransition, savePng, SMALL_VIEWPORT, frame, viewChanges } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
 async function picture(backend, methods) {
-  const page = await openPage(browser, { backend });
+  const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
   const state = await midTransition(page, clock(), { k: 4, t: 0.5, methods, variant: 'dither', switchAt: 1.2 });
   assert.equal(state.backend, backend);
   assert.equal(state.errors.length, 0, state.errors.join('\n'));
@@ -34,4 +34,17 @@ test('WebGL2 draws what WebGPU draws', async () => {
     // 1.5 of 765 per pixel on average: edge pixels may differ by rounding, shapes may not.
     assert.ok(diff < 1.5, `view ${i} differs by ${diff}`);
   });
+});
+
+test('WebGL2 draws the overlays too (wireframe lines, level colours) in every view', async () => {
+  const page = await openPage(browser, { backend: 'webgl2' }, SMALL_VIEWPORT);
+  const now = 1000;
+  const state = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
+  assert.equal(state.backend, 'webgl2');
+  for (const overlay of ['wireframe', 'levels']) {
+    const { diffs } = await viewChanges(page, now, { overlay }, { overlay: 'none' });
+    console.log(`WebGL2 ${overlay}: mean |ΔRGB| per pixel ${diffs.map((d) => d.toFixed(2)).join(', ')}`);
+    diffs.forEach((d, i) => assert.ok(d > 0.1, `${overlay} leaves WebGL2 view ${i} unchanged: ${d}`));
+  }
+  await page.close();
 });

@@ -1,0 +1,471 @@
+//! The wgpu side of the renderer: device and surface set-up (WebGPU, or WebGL2 in the `webgl`
+//! build), GPU buffers of every level, materials with their decoded textures, the pipelines of
+//! `skin.wgsl`, and the execution of a frame's [`ViewPlan`]s: one render pass, one viewport per
+//! view, 4× MSAA where the format allows it, into an sRGB target.
+//!
+//! Joint matrices live in a uniform block on both backends (WebGL2 has no storage buffers in
+//! vertex shaders; doing the same on WebGPU keeps the comparison fair). Errors the device reports
+//! asynchronously (validation, out of memory, device loss) are collected and handed to the page
+//! by [`Renderer::take_errors`].
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use bytemuck::Zeroable;
+use glam::Mat4;
+use thiserror::Error;
+use wasm_bindgen::JsCast;
+use wgpu::util::DeviceExt;
+
+mod frame_targets;
+mod pipelines;
+mod readback;
+mod resources;
+
+use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTargets};
+use pipelines::{create_pipelines, BindLayouts, Pipelines};
+use resources::{uniform_buffer, upload_level, upload_materials};
+
+use super::layout::Rect;
+use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
+use super::overlay::{draw_tint, Overlay};
+use super::plan::{PassKind, ViewPlan};
+use super::uniforms::{CameraRaw, DrawRaw, JointsRaw, MaterialRaw, MAX_JOINTS, SKIN_WGSL};
+use crate::character::{AlphaMode, Character};
+
+/// Why the renderer could not start or draw.
+#[derive(Debug, Error)]
+pub enum RenderError {
+    #[error("no {0} adapter: this browser or GPU cannot run it")]
+    NoAdapter(&'static str),
+    #[error("the canvas cannot be used for {0}: {1}")]
+    Surface(&'static str, String),
+    #[error("the GPU refused a device: {0}")]
+    Device(String),
+    #[error("the character has {0} joints; the viewer draws at most {MAX_JOINTS}")]
+    TooManyJoints(usize),
+    #[error("texture of material {material:?} could not be decoded: {reason}")]
+    Texture { material: String, reason: String },
+    #[error("reading the picture back failed: {0}")]
+    Readback(String),
+}
+
+/// Which backend to ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackendChoice {
+    WebGpu,
+    WebGl2,
+}
+
+/// Draw-call slots of the per-draw uniform buffer: 3 views × 2 draws at most.
+const DRAW_SLOTS: u64 = 6;
+/// WebGPU's and WebGL2's minimum uniform offset alignment: the stride of the draw slots.
+const DRAW_STRIDE: u64 = 256;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
+/// Background: a cool mid grey, linear (drawn as about #8a96a6 in sRGB), light enough that dark
+/// clothes stand out and dark enough that light skin does.
+const BACKGROUND: wgpu::Color = wgpu::Color { r: 0.25, g: 0.3, b: 0.38, a: 1.0 };
+
+struct LevelGpu {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    /// Line list of the level's edges (the wireframe overlay).
+    edges: wgpu::Buffer,
+    edge_count: u32,
+    /// `(first_index, index_count, material slot)`.
+    ranges: Vec<(u32, u32, usize)>,
+}
+
+struct MaterialGpu {
+    bind_group: wgpu::BindGroup,
+    double_sided: bool,
+}
+
+/// Pipeline key: pass kind, geomorph vertex shader, back-face culling.
+type PipelineKey = (PassKind, bool, bool);
+
+/// Everything a frame needs besides the plans: shared camera and the pose.
+pub struct FrameInput<'a> {
+    pub camera: CameraRaw,
+    pub skin: &'a [Mat4],
+    pub views: [(Rect, &'a ViewPlan); 3],
+    /// Drawn over every view alike.
+    pub overlay: Overlay,
+}
+
+/// Pixels read back from an offscreen render of a frame: RGBA8, sRGB-encoded, rows top first.
+pub struct Pixels {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+/// The GPU state of one viewer.
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    /// Format the pipelines render to (the surface's, or its sRGB view).
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+    /// Full-canvas depth and MSAA targets, when views draw straight into the canvas.
+    direct: Option<(wgpu::TextureView, Option<wgpu::TextureView>)>,
+    /// View-size targets, when each view draws at the origin of its own texture and is copied
+    /// into place (see [`Renderer::composed`]).
+    view_targets: std::cell::RefCell<Option<ViewTargets>>,
+    /// Whether views are drawn separately and copied into the frame. Drawing every view at the
+    /// same origin makes equal views bit-identical (the viewport transform's rounding depends on
+    /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
+    composed: bool,
+    camera_buffer: wgpu::Buffer,
+    joints_buffer: wgpu::Buffer,
+    draw_buffer: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    draw_group: wgpu::BindGroup,
+    materials: Vec<MaterialGpu>,
+    levels: Vec<LevelGpu>,
+    /// The continuous-LOD mesh, drawn as level `levels.len()`.
+    continuous: Option<LevelGpu>,
+    pipelines: Pipelines,
+    errors: Arc<Mutex<Vec<String>>>,
+    /// `webgpu` or `webgl2`, and the adapter's name.
+    pub backend: &'static str,
+    pub adapter_name: String,
+}
+
+impl Renderer {
+    /// Sets up the device on `canvas`, uploads the levels and decodes the textures.
+    ///
+    /// # Errors
+    /// [`RenderError`]: no adapter for the backend, a canvas or device the browser refuses, more
+    /// than [`MAX_JOINTS`] joints, or a texture the browser cannot decode.
+    pub async fn new(
+        canvas: web_sys::HtmlCanvasElement,
+        choice: BackendChoice,
+        character: &Character,
+        lod: &LodSource,
+    ) -> Result<Self, RenderError> {
+        let joint_count = character.skeleton.joints.len();
+        if joint_count > MAX_JOINTS {
+            return Err(RenderError::TooManyJoints(joint_count));
+        }
+        let (backends, backend) = match choice {
+            BackendChoice::WebGpu => (wgpu::Backends::BROWSER_WEBGPU, "webgpu"),
+            BackendChoice::WebGl2 => (wgpu::Backends::GL, "webgl2"),
+        };
+        let (width, height) = (canvas.width().max(1), canvas.height().max(1));
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        let instance = wgpu::Instance::new(desc);
+        let surface = instance
+            .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+            .map_err(|e| RenderError::Surface(backend, e.to_string()))?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                compatible_surface: Some(&surface),
+                ..Default::default()
+            })
+            .await
+            .map_err(|_| RenderError::NoAdapter(backend))?;
+        // WebGL2's limits on both backends: the same work, and the joint block (16 KiB) fits.
+        let limits = wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("clod-viewer"),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| RenderError::Device(e.to_string()))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = Arc::clone(&errors);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            push_error(&sink, format!("GPU error: {e}"))
+        }));
+        let sink = Arc::clone(&errors);
+        device.set_device_lost_callback(move |reason, message| {
+            push_error(&sink, format!("the GPU device was lost ({reason:?}): {message}"));
+        });
+
+        let caps = surface.get_capabilities(&adapter);
+        let (config, color_format) = surface_config(&caps, choice, width, height)
+            .ok_or_else(|| RenderError::Surface(backend, "no usable surface format".into()))?;
+        surface.configure(&device, &config);
+        let sample_count =
+            if adapter.get_texture_format_features(color_format).flags.sample_count_supported(4) {
+                4
+            } else {
+                1
+            };
+
+        let camera_buffer = uniform_buffer(&device, "camera", std::mem::size_of::<CameraRaw>() as u64);
+        let joints_buffer = uniform_buffer(&device, "joints", std::mem::size_of::<JointsRaw>() as u64);
+        let draw_buffer = uniform_buffer(&device, "draws", DRAW_SLOTS * DRAW_STRIDE);
+        let layouts = BindLayouts::new(&device);
+        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &layouts.frame,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: joints_buffer.as_entire_binding() },
+            ],
+        });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("draw"),
+            layout: &layouts.draw,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &draw_buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<DrawRaw>() as u64),
+                }),
+            }],
+        });
+        let materials = upload_materials(&device, &queue, &layouts.material, character).await?;
+        let default_slot = materials.len() - 1;
+        let levels = lod.levels.iter().map(|level| upload_level(&device, level, default_slot)).collect();
+        let pipelines = create_pipelines(&device, &layouts, color_format, sample_count);
+        let composed = config.usage.contains(wgpu::TextureUsages::COPY_DST);
+        let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
+        let info = adapter.get_info();
+        Ok(Self {
+            device,
+            queue,
+            surface,
+            config,
+            color_format,
+            sample_count,
+            direct,
+            view_targets: Default::default(),
+            composed,
+            camera_buffer,
+            joints_buffer,
+            draw_buffer,
+            frame_group,
+            draw_group,
+            materials,
+            levels,
+            continuous: None,
+            pipelines,
+            errors,
+            backend,
+            adapter_name: info.name,
+        })
+    }
+
+    /// Whether the shader must encode sRGB itself (the target format is not sRGB).
+    pub fn encodes_srgb_in_shader(&self) -> bool {
+        !self.color_format.is_srgb()
+    }
+
+    /// MSAA sample count in use (4, or 1 where the format cannot multisample).
+    pub fn sample_count(&self) -> u32 {
+        self.sample_count
+    }
+
+    /// Whether views are drawn apart and copied into the frame (see the field's docs).
+    pub fn composed(&self) -> bool {
+        self.composed
+    }
+
+    /// Name of the colour format the views render in.
+    pub fn color_format_name(&self) -> String {
+        format!("{:?}", self.color_format)
+    }
+
+    /// Current framebuffer size.
+    pub fn size(&self) -> (u32, u32) {
+        (self.config.width, self.config.height)
+    }
+
+    /// Errors reported since the last call (validation, device loss, surface trouble).
+    pub fn take_errors(&self) -> Vec<String> {
+        std::mem::take(&mut *self.errors.lock().unwrap_or_else(|p| p.into_inner()))
+    }
+
+    /// Uploads the continuous-LOD mesh (drawn as level `levels`), or drops it.
+    pub fn set_continuous_level(&mut self, level: Option<&LevelData>) {
+        let default_slot = self.materials.len() - 1;
+        self.continuous = level.map(|l| upload_level(&self.device, l, default_slot));
+    }
+
+    /// Resizes the surface and the depth and MSAA targets; a zero size is ignored.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        let max = self.device.limits().max_texture_dimension_2d;
+        let (width, height) = (width.min(max), height.min(max));
+        if width == 0 || height == 0 || (width, height) == (self.config.width, self.config.height) {
+            return;
+        }
+        self.config.width = width;
+        self.config.height = height;
+        self.surface.configure(&self.device, &self.config);
+        if !self.composed {
+            self.direct = Some(targets(&self.device, self.color_format, self.sample_count, width, height));
+        }
+    }
+
+    /// Draws a frame to the canvas.
+    pub fn render(&self, frame: &FrameInput) {
+        let texture = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                // Reconfigure and draw next frame; a surface that stays lost shows up as errors.
+                self.surface.configure(&self.device, &self.config);
+                return;
+            }
+            other => {
+                push_error(&self.errors, format!("the canvas could not give a frame: {other:?}"));
+                return;
+            }
+        };
+        let commands = self.encode(frame, &texture.texture);
+        self.queue.submit([commands]);
+        self.queue.present(texture);
+    }
+
+    fn encode(&self, frame: &FrameInput, target: &wgpu::Texture) -> wgpu::CommandBuffer {
+        let mut joints = JointsRaw::zeroed();
+        for (slot, m) in joints.model_from_bind.iter_mut().zip(frame.skin) {
+            *slot = m.to_cols_array_2d();
+        }
+        let mut camera = frame.camera;
+        camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
+        self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
+        self.queue.write_buffer(&self.joints_buffer, 0, bytemuck::bytes_of(&joints));
+        let target_view = target.create_view(&Default::default());
+        let (fw, fh) = (target.width(), target.height());
+        let visible = |r: &Rect| r.width > 0 && r.height > 0 && r.x + r.width <= fw && r.y + r.height <= fh;
+        let mut encoder =
+            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut slot = 0u64;
+        if self.composed {
+            // The background (gaps between views), then each view drawn at its texture's origin
+            // and copied into place.
+            drop(begin_pass(&mut encoder, &target_view, None, None, background_for(target.format())));
+            let size = frame.views[0].0;
+            let mut cache = self.view_targets.borrow_mut();
+            if cache.as_ref().is_none_or(|t| (t.width, t.height) != (size.width, size.height)) {
+                *cache = (size.width > 0 && size.height > 0)
+                    .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
+            }
+            let Some(targets) = cache.as_ref() else { return encoder.finish() };
+            for (i, (rect, plan)) in frame.views.iter().enumerate() {
+                if !visible(rect) || (rect.width, rect.height) != (targets.width, targets.height) {
+                    continue;
+                }
+                let resolve = &targets.views[i];
+                let (color, resolve_target) = match &targets.msaa {
+                    Some(msaa) => (msaa, Some(resolve)),
+                    None => (resolve, None),
+                };
+                {
+                    let mut pass =
+                        begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
+                    self.draw_view(&mut pass, plan, frame.overlay, [0.0; 2], &mut slot);
+                }
+                encoder.copy_texture_to_texture(
+                    targets.textures[i].as_image_copy(),
+                    wgpu::TexelCopyTextureInfo {
+                        texture: target,
+                        mip_level: 0,
+                        origin: wgpu::Origin3d { x: rect.x, y: rect.y, z: 0 },
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::Extent3d { width: rect.width, height: rect.height, depth_or_array_layers: 1 },
+                );
+            }
+        } else if let Some((depth, msaa)) = &self.direct {
+            let (color, resolve_target) = match msaa {
+                Some(msaa) => (msaa, Some(&target_view)),
+                None => (&target_view, None),
+            };
+            let mut pass = begin_pass(
+                &mut encoder,
+                color,
+                resolve_target,
+                Some(depth),
+                background_for(self.color_format),
+            );
+            for (rect, plan) in &frame.views {
+                if !visible(rect) {
+                    continue;
+                }
+                pass.set_viewport(
+                    rect.x as f32,
+                    rect.y as f32,
+                    rect.width as f32,
+                    rect.height as f32,
+                    0.0,
+                    1.0,
+                );
+                pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
+                self.draw_view(&mut pass, plan, frame.overlay, [rect.x as f32, rect.y as f32], &mut slot);
+            }
+            // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
+            pass.set_scissor_rect(0, 0, fw, fh);
+        }
+        encoder.finish()
+    }
+
+    /// Records one view's draws; `slot` counts the draw-uniform slots used so far this frame.
+    fn draw_view(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        plan: &ViewPlan,
+        overlay: Overlay,
+        origin: [f32; 2],
+        slot: &mut u64,
+    ) {
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        for draw in &plan.draws {
+            let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
+            *slot += 1;
+            let raw = DrawRaw {
+                morph_t: draw.morph_t.unwrap_or(0.0),
+                opacity: draw.opacity,
+                dither_mode: draw.dither_mode,
+                dither_threshold: draw.dither_threshold,
+                viewport_origin: origin,
+                tint: draw_tint(overlay, draw.level, draw.morph_t),
+                ..DrawRaw::default()
+            };
+            self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
+            let level = match self.levels.get(draw.level) {
+                Some(level) => level,
+                None if draw.level == self.levels.len() => match &self.continuous {
+                    Some(level) => level,
+                    None => continue,
+                },
+                None => continue,
+            };
+            pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
+            pass.set_vertex_buffer(0, level.vertices.slice(..));
+            pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for &(first, count, material) in &level.ranges {
+                let m = &self.materials[material];
+                let key = (draw.pass, draw.morph_t.is_some(), !m.double_sided);
+                pass.set_pipeline(&self.pipelines.shaded[&key]);
+                pass.set_bind_group(1, &m.bind_group, &[]);
+                pass.draw_indexed(first..first + count, 0, 0..1);
+            }
+            if overlay == Overlay::Wireframe && !level.ranges.is_empty() {
+                // The same vertices and draw uniforms (morph, opacity, dither) as the triangles.
+                pass.set_pipeline(&self.pipelines.wire[usize::from(draw.morph_t.is_some())]);
+                pass.set_index_buffer(level.edges.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..level.edge_count, 0, 0..1);
+            }
+        }
+    }
+}
+
+fn push_error(sink: &Mutex<Vec<String>>, message: String) {
+    let mut errors = sink.lock().unwrap_or_else(|p| p.into_inner());
+    // Keep the first few: a broken pipeline repeats the same error every frame.
+    if errors.len() < 16 {
+        errors.push(message);
+    }
+}

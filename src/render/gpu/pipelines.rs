@@ -1,0 +1,195 @@
+//! Bind group layouts, vertex layouts and the render pipelines of `skin.wgsl`: one per pass kind,
+//! vertex shader (level or geomorph) and culling mode, and the wireframe overlay's line pipelines.
+
+use super::*;
+
+pub(super) struct BindLayouts {
+    pub(super) frame: wgpu::BindGroupLayout,
+    pub(super) material: wgpu::BindGroupLayout,
+    pub(super) draw: wgpu::BindGroupLayout,
+}
+
+impl BindLayouts {
+    pub(super) fn new(device: &wgpu::Device) -> Self {
+        let uniform = |binding, visibility, dynamic| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: dynamic,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[uniform(0, both, false), uniform(1, wgpu::ShaderStages::VERTEX, false)],
+        });
+        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("material"),
+            entries: &[
+                uniform(0, wgpu::ShaderStages::FRAGMENT, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let draw = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("draw"),
+            entries: &[uniform(0, both, true)],
+        });
+        Self { frame, material, draw }
+    }
+}
+
+/// Vertex attributes of one [`VertexRaw`] at `base` bytes, shader locations from `location`.
+fn vertex_attributes(base: u64, location: u32) -> [wgpu::VertexAttribute; 6] {
+    use wgpu::VertexFormat as F;
+    let formats = [F::Float32x3, F::Float32x3, F::Float32x2, F::Float32x4, F::Uint16x4, F::Float32x4];
+    let offsets = [0u64, 12, 24, 32, 48, 56];
+    std::array::from_fn(|i| wgpu::VertexAttribute {
+        format: formats[i],
+        offset: base + offsets[i],
+        shader_location: location + i as u32,
+    })
+}
+
+/// What differs between the renderer's pipelines.
+struct Spec {
+    /// Geomorph vertex shader (both vertices of each pair) or the level's own.
+    geomorph: bool,
+    /// Wireframe lines (line list, `vs_wire_*` and `fs_wire`) or shaded triangles.
+    wire: bool,
+    cull: bool,
+    blend: bool,
+    depth_write: bool,
+    depth_compare: wgpu::CompareFunction,
+}
+
+/// The shaded pipelines by [`PipelineKey`], and the wireframe ones (level, geomorph).
+pub(super) struct Pipelines {
+    pub(super) shaded: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pub(super) wire: [wgpu::RenderPipeline; 2],
+}
+
+pub(super) fn create_pipelines(
+    device: &wgpu::Device,
+    layouts: &BindLayouts,
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+) -> Pipelines {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("skin.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(SKIN_WGSL.into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("skin"),
+        bind_group_layouts: &[Some(&layouts.frame), Some(&layouts.material), Some(&layouts.draw)],
+        immediate_size: 0,
+    });
+    let fine = vertex_attributes(0, 0);
+    let mut both = fine.to_vec();
+    both.extend(vertex_attributes(std::mem::size_of::<VertexRaw>() as u64, 6));
+    let stride = std::mem::size_of::<GeomorphVertexRaw>() as u64;
+    let create = |spec: Spec| {
+        let attributes: &[wgpu::VertexAttribute] = if spec.geomorph { &both } else { &fine };
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: stride,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes,
+        })];
+        let (vertex, fragment, topology) = match (spec.wire, spec.geomorph) {
+            (false, false) => ("vs_level", "fs_main", wgpu::PrimitiveTopology::TriangleList),
+            (false, true) => ("vs_geomorph", "fs_main", wgpu::PrimitiveTopology::TriangleList),
+            (true, false) => ("vs_wire_level", "fs_wire", wgpu::PrimitiveTopology::LineList),
+            (true, true) => ("vs_wire_geomorph", "fs_wire", wgpu::PrimitiveTopology::LineList),
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("{vertex} {fragment} cull={} blend={}", spec.cull, spec.blend)),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vertex),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: spec.cull.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(spec.depth_write),
+                depth_compare: Some(spec.depth_compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fragment),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: color_format,
+                    blend: spec.blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let mut shaded = HashMap::new();
+    for pass in [PassKind::Opaque, PassKind::BlendOver, PassKind::BlendNaive] {
+        for geomorph in [false, true] {
+            for cull in [false, true] {
+                let spec = Spec {
+                    geomorph,
+                    wire: false,
+                    cull,
+                    blend: pass != PassKind::Opaque,
+                    depth_write: pass != PassKind::BlendOver,
+                    // The fading level lies on the opaque one: equal depths must pass.
+                    depth_compare: if pass == PassKind::BlendOver {
+                        wgpu::CompareFunction::LessEqual
+                    } else {
+                        wgpu::CompareFunction::Less
+                    },
+                };
+                shaded.insert((pass, geomorph, cull), create(spec));
+            }
+        }
+    }
+    // Lines blend over the shading and leave depth alone, so a level fading in keeps its own.
+    let wire = [false, true].map(|geomorph| {
+        create(Spec {
+            geomorph,
+            wire: true,
+            cull: false,
+            blend: true,
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::LessEqual,
+        })
+    });
+    Pipelines { shaded, wire }
+}

@@ -1,0 +1,235 @@
+//! `viewer.measurePopSpike(options)`: the pop spike of each view, measured by the viewer itself
+//! (issue 5's test 3, and the page's "measure" button).
+//!
+//! With the animation paused at the current pose, the camera moves slowly (`sweep`, a fraction of
+//! the distance) through the switch to level `level`, one frame per 1/60 s of viewer time. The
+//! switch sits at `at` framing distances: the tolerance is scaled for the measurement so that the
+//! character stays large whatever level is measured (switch distances scale as 1 / tolerance).
+//! The camera crosses the switch a quarter of the way through the frames and the time-driven
+//! transition lasts half of them, so it starts and ends inside the run. Every frame is drawn
+//! offscreen and read back; [`SpikeMeter`] keeps each view's frame-to-frame changes. Afterwards
+//! the settings, clocks, schedule and camera are what they were.
+
+use wasm_bindgen::prelude::*;
+
+use super::{json_str, num, settings, Inner, Viewer};
+use crate::render::camera::FOVY;
+use crate::render::gpu::FrameInput;
+use crate::render::pop_spike::SpikeMeter;
+use crate::render::schedule::{self, Schedule, TransitionMode};
+use settings::DistanceMode;
+
+/// Frames of a measurement by default: the transition gets 48 of them. A geomorph's frame change
+/// does not shrink as 1/frames (8-bit rounding of the slowly changing shading flips pixels every
+/// frame): measured on the built-in character, 48 frames put its spike at 8-12 % of popping's, 96
+/// at 6-8 %. 96 frames are 1.6 s of viewer time and about 5 s on SwiftShader at 668 × 223.
+const DEFAULT_FRAMES: u32 = 96;
+/// Distance swept over the run, as a fraction: small, so the camera's own motion changes the
+/// picture far less than a pop does.
+const DEFAULT_SWEEP: f32 = 0.008;
+/// Where the switch is placed, in framing distances: framed, the character fills the view's
+/// height, so a level's change covers the most pixels.
+const DEFAULT_AT: f32 = 1.0;
+/// Viewer time per measured frame, seconds (a 60 Hz display).
+const FRAME_SECONDS: f64 = 1.0 / 60.0;
+
+/// What `measurePopSpike` was asked for.
+struct SpikeOptions {
+    /// The level switched to (from `level − 1`).
+    level: usize,
+    frames: u32,
+    sweep: f32,
+    at: f32,
+}
+
+/// Reads the options: `level` (default the coarsest: the biggest change of shape), `frames`,
+/// `sweep`, `at`; unknown keys are an error.
+fn parse_options(options: &JsValue, levels: usize) -> Result<SpikeOptions, String> {
+    if levels < 2 {
+        return Err("the viewer has one level only: there is no change of level to measure".into());
+    }
+    let mut out =
+        SpikeOptions { level: levels - 1, frames: DEFAULT_FRAMES, sweep: DEFAULT_SWEEP, at: DEFAULT_AT };
+    if options.is_undefined() || options.is_null() {
+        return Ok(out);
+    }
+    if !options.is_object() {
+        return Err("measurePopSpike takes an object, e.g. { level: 3, frames: 48 }".into());
+    }
+    const KEYS: [&str; 4] = ["level", "frames", "sweep", "at"];
+    for key in js_sys::Object::keys(options.unchecked_ref::<js_sys::Object>()).iter() {
+        let key = key.as_string().unwrap_or_default();
+        let value = js_sys::Reflect::get(options, &key.as_str().into()).unwrap_or(JsValue::UNDEFINED);
+        let number = |lo: f64, hi: f64| match value.as_f64() {
+            Some(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
+            _ => Err(format!("measurePopSpike: {key} must be a number in [{lo}, {hi}], got {value:?}")),
+        };
+        match key.as_str() {
+            "level" => out.level = number(1.0, (levels - 1) as f64)?.round() as usize,
+            // At least 8 frames so the transition spans several; at most 600 (10 s of 60 Hz).
+            "frames" => out.frames = number(8.0, 600.0)?.round() as u32,
+            "sweep" => out.sweep = number(1e-4, 0.5)? as f32,
+            "at" => out.at = number(0.5, 50.0)? as f32,
+            _ => return Err(format!("measurePopSpike: unknown option {key:?}; known: {}", KEYS.join(", "))),
+        }
+    }
+    Ok(out)
+}
+
+#[wasm_bindgen]
+impl Viewer {
+    /// Measures each view's pop spike at the current pose and resolves to
+    /// `{ popping, alpha, geomorph, level, frames, at, sweep, duration, views }`: the largest
+    /// frame-to-frame mean `|ΔR|+|ΔG|+|ΔB|` per pixel (0..765) of the view showing each method
+    /// (`null` when no view shows it; the largest when several do), and per view
+    /// `{ method, largest, series }`. `options` (all optional): `level` (the switch to this level
+    /// from the one before; default the coarsest), `frames` (default 96), `sweep` (fraction of
+    /// the distance moved, default 0.008), `at` (framing distances where the switch is placed,
+    /// default 1). Alpha-blending uses the current `variant`.
+    ///
+    /// Takes `frames` offscreen draws and readbacks (a few seconds on a software rasterizer);
+    /// meanwhile the viewer is busy (`frame` and the setters throw). Rejects when the viewer has
+    /// one level only, an option is out of range, or a readback fails; the viewer's settings are
+    /// restored in every case.
+    #[wasm_bindgen(js_name = measurePopSpike)]
+    #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: the viewer stays locked meanwhile
+    pub fn measure_pop_spike(&self, options: JsValue) -> js_sys::Promise {
+        let inner = std::rc::Rc::clone(&self.inner);
+        wasm_bindgen_futures::future_to_promise(async move {
+            let mut guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let options =
+                parse_options(&options, guard.lod.levels.len()).map_err(|e| JsValue::from_str(&e))?;
+            let saved = Saved::take(&guard);
+            let result = guard.measure(&options).await;
+            saved.restore(&mut guard);
+            let json = result.map_err(|e| JsValue::from_str(&e))?;
+            js_sys::JSON::parse(&json)
+        })
+    }
+}
+
+/// What a measurement changes, to put back afterwards.
+struct Saved {
+    settings: settings::Settings,
+    anim_time: f64,
+    dolly_time: f64,
+    last_now_ms: Option<f64>,
+    schedule: Schedule,
+    distance: f32,
+    plans: [crate::render::plan::ViewPlan; 3],
+    camera_raw: crate::render::uniforms::CameraRaw,
+    skin: Vec<glam::Mat4>,
+}
+
+impl Saved {
+    fn take(inner: &Inner) -> Self {
+        Self {
+            settings: inner.settings.clone(),
+            anim_time: inner.anim_time,
+            dolly_time: inner.dolly_time,
+            last_now_ms: inner.last_now_ms,
+            schedule: inner.schedule,
+            distance: inner.distance,
+            plans: inner.plans.clone(),
+            camera_raw: inner.camera_raw,
+            skin: inner.skin.clone(),
+        }
+    }
+
+    fn restore(self, inner: &mut Inner) {
+        inner.settings = self.settings;
+        inner.anim_time = self.anim_time;
+        inner.dolly_time = self.dolly_time;
+        inner.last_now_ms = self.last_now_ms;
+        inner.schedule = self.schedule;
+        inner.distance = self.distance;
+        inner.plans = self.plans;
+        inner.camera_raw = self.camera_raw;
+        inner.skin = self.skin;
+    }
+}
+
+impl Inner {
+    /// Runs the measurement (see the module docs) and returns its result as JSON.
+    async fn measure(&mut self, o: &SpikeOptions) -> Result<String, String> {
+        let k = o.level;
+        let view_height = self.layout.views[0].height.max(1) as f32;
+        let switch =
+            schedule::switch_distances(&self.lod.errors(), view_height, FOVY, self.settings.tolerance_px);
+        let current = switch[k];
+        if !(current.is_finite() && current > 0.0) {
+            return Err(format!("level {k} has no switch distance (its error is 0): nothing pops"));
+        }
+        let s = &mut self.settings;
+        s.tolerance_px *= current / (o.at * self.framing);
+        s.paused = true;
+        s.continuous_triangles = None;
+        s.distance_mode = DistanceMode::Manual;
+        let duration = (o.frames / 2) as f64 * FRAME_SECONDS;
+        s.transition = TransitionMode::Time { seconds_per_level: duration as f32 };
+        // Coarsening happens at the switch distance × (1 + hysteresis).
+        let crossing = o.at * (1.0 + s.hysteresis.max(0.0));
+        self.schedule = Schedule { selected: k - 1, coordinate: (k - 1) as f32 };
+        let start_ms = self.last_now_ms.unwrap_or(0.0);
+        self.last_now_ms = Some(start_ms);
+        let mut meter = SpikeMeter::default();
+        let mut selected = Vec::with_capacity(o.frames as usize);
+        for i in 0..o.frames {
+            let f = i as f32 / (o.frames - 1) as f32;
+            self.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
+            self.advance(start_ms + (i + 1) as f64 * FRAME_SECONDS * 1000.0);
+            selected.push(self.schedule.selected);
+            let input = FrameInput {
+                camera: self.camera_raw,
+                skin: &self.skin,
+                views: self.frame_views(),
+                overlay: self.settings.overlay,
+            };
+            let pixels = self.renderer.read_pixels(&input).await.map_err(|e| e.to_string())?;
+            meter.push(pixels.rgba, pixels.width, self.layout.views);
+        }
+        if selected.first() != Some(&(k - 1)) || selected.last() != Some(&k) {
+            return Err(format!(
+                "the sweep did not cross the switch from level {} to {k} (levels shown: {selected:?})",
+                k - 1
+            ));
+        }
+        if self.plans.iter().any(|p| p.t != 0.0) {
+            return Err(format!("the transition to level {k} did not end within {} frames", o.frames));
+        }
+        Ok(self.spike_json(o, &meter, duration))
+    }
+
+    fn spike_json(&self, o: &SpikeOptions, meter: &SpikeMeter, duration: f64) -> String {
+        let largest = meter.largest();
+        let names = self.settings.methods.map(settings::method_name);
+        let by_method = |name: &str| {
+            let values = (0..3).filter(|&i| names[i] == name).map(|i| largest[i]);
+            values.reduce(f32::max).map_or("null".to_string(), num)
+        };
+        let views: Vec<String> = (0..3)
+            .map(|i| {
+                let series: Vec<String> = meter.series[i].iter().map(|&x| num(x)).collect();
+                format!(
+                    "{{\"method\":{},\"largest\":{},\"series\":[{}]}}",
+                    json_str(names[i]),
+                    num(largest[i]),
+                    series.join(",")
+                )
+            })
+            .collect();
+        format!(
+            "{{\"popping\":{},\"alpha\":{},\"geomorph\":{},\"variant\":{},\"level\":{},\"frames\":{},\"at\":{},\"sweep\":{},\"duration\":{},\"views\":[{}]}}",
+            by_method("popping"),
+            by_method("alpha"),
+            by_method("geomorph"),
+            json_str(settings::variant_name(self.settings.variant)),
+            o.level,
+            o.frames,
+            num(o.at),
+            num(o.sweep),
+            num(duration as f32),
+            views.join(",")
+        )
+    }
+}
