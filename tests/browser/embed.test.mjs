@@ -9,9 +9,11 @@ let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
-// Opens `path` and records every <clod-viewer>'s events from the start.
-async function open(path, viewport = { width: 1000, height: 700 }) {
+// Opens `path` and records every <clod-viewer>'s events from the start. The page closes when the
+// test ends: autoplaying viewers left open would keep the software rasterizer busy.
+async function open(t, path, viewport = { width: 1000, height: 700 }) {
   const page = await browser.newPage({ viewport, deviceScaleFactor: 1 });
+  t.after(() => page.close());
   const logs = [];
   page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));
   page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
@@ -54,8 +56,8 @@ async function viewCoverage(page, id, time = 0.4) {
   return { state, coverage: state.views.map((v) => foregroundFraction(crop(pixels, v.rect))) };
 }
 
-test('the docs example renders both embedded viewers, lazily, each with its own clip and modes', async () => {
-  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+test('the docs example renders both embedded viewers, lazily, each with its own clip and modes', async (t) => {
+  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
   await waitLoaded(page, 'walk');
   // The second viewer is below the fold: nothing of it has started.
   assert.deepEqual(await events(page, 'wave'), []);
@@ -74,8 +76,8 @@ test('the docs example renders both embedded viewers, lazily, each with its own 
   assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
 });
 
-test('progress events arrive in order and end at 1; play, pause and setTime drive the clock', async () => {
-  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+test('progress events arrive in order and end at 1; play, pause and setTime drive the clock', async (t) => {
+  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
   await waitLoaded(page, 'walk');
   const progress = (await events(page, 'walk')).filter((e) => e.type === 'progress').map((e) => e.detail);
   const fractions = progress.map((p) => p.fraction);
@@ -96,26 +98,28 @@ test('progress events arrive in order and end at 1; play, pause and setTime driv
   assert.ok(clock.t1 > clock.t0, `the clock did not run after play(): ${JSON.stringify(clock)}`);
 });
 
-test('an element scrolled off screen stops drawing', async () => {
-  const page = await open('docs/v1/docs-example.html', { width: 1000, height: 480 });
+test('an element scrolled off screen stops drawing', async (t) => {
+  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
   await waitLoaded(page, 'walk');
   await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
-  await page.waitForTimeout(300);
+  // The intersection observer reports on its own schedule and a software-rendered frame may be
+  // in flight: give it a second, then count.
+  await page.waitForTimeout(1000);
   const a = await page.evaluate(() => document.getElementById('walk').state().frames);
-  await page.waitForTimeout(1500);
+  await page.waitForTimeout(2000);
   const b = await page.evaluate(() => document.getElementById('walk').state().frames);
   assert.equal(b, a, 'frames were drawn while off screen');
   await page.locator('#walk').scrollIntoViewIfNeeded();
   await page.waitForFunction((a) => document.getElementById('walk').state().frames > a, a, { timeout: 30_000 });
 });
 
-test('embed.html shows a shared model without page chrome, hosted under any path', async () => {
+test('embed.html shows a shared model without page chrome, hosted under any path', async (t) => {
   if (!existsSync(new URL('../../../shared/models/Fox.glb', import.meta.url))) {
     if (process.env.CI === 'true') throw new Error('../shared/models/Fox.glb is missing, and CI needs the shared models');
     console.log('skipping: ../shared/models/Fox.glb is missing');
     return;
   }
-  const page = await open('docs/v1/embed.html?model=/models/Fox.glb&clip=Walk&modes=blend+morph&paused=1', { width: 640, height: 320 });
+  const page = await open(t, 'docs/v1/embed.html?model=/models/Fox.glb&clip=Walk&modes=blend+morph&paused=1', { width: 640, height: 320 });
   await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 180_000 });
   assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'ready', page.logs.join('\n'));
   assert.equal(await page.locator('h1, form, header').count(), 0);
