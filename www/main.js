@@ -224,7 +224,7 @@ function showStats() {
     ['Levels', levels],
     ['LOD build', `${Math.round(s.buildMs)} ms${s.builtOffMainThread ? ' (worker)' : ''}`],
     ['Frame', viewer.frameMs ? `${viewer.frameMs.toFixed(1)} ms` : '–'],
-    ['Backend', `${s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'} · ${s.adapter} · MSAA ${s.msaa}×`],
+    ['Backend', [s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2', s.adapter, `MSAA ${s.msaa}×`].filter(Boolean).join(' · ')],
     ['Pop spike', spike ? formatSpike(spike) : transitionSeen || measuring ? 'measuring…' : 'after the first transition'],
   ];
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
@@ -242,8 +242,13 @@ function showStats() {
 
 function formatSpike(r) {
   const pop = r.popping;
-  const pct = (x) => (pop > 0 ? ` (${((100 * x) / pop).toFixed(0)} %)` : '');
-  return `popping ${pop.toFixed(2)}, alpha-blend ${r.alpha.toFixed(2)}${pct(r.alpha)}, geomorph ${r.geomorph.toFixed(2)}${pct(r.geomorph)} — largest frame-to-frame change, mean |ΔRGB| per pixel`;
+  const pct = (x) => (pop > 0 ? ` (${((100 * x) / pop).toFixed(0)} % of popping)` : '');
+  const parts = [
+    pop !== null && `popping ${pop.toFixed(2)}`,
+    r.alpha !== null && `alpha-blend, ${r.variant}: ${r.alpha.toFixed(2)}${pct(r.alpha)}`,
+    r.geomorph !== null && `geomorph ${r.geomorph.toFixed(2)}${pct(r.geomorph)}`,
+  ].filter(Boolean);
+  return `${parts.join(' · ')} — largest frame-to-frame change through the switch to level ${r.level}, mean |ΔRGB| per pixel`;
 }
 
 async function measureSpike() {
@@ -301,6 +306,7 @@ function exposeTestHook() {
     readPixels: () => viewer.readPixels(),
     finish: () => viewer.finish(),
     state: () => viewer.state(),
+    measurePopSpike: (options) => viewer.measurePopSpike(options),
     load: (name, bytes) => viewer.load({ name, bytes, resources: null }),
   };
 }

@@ -140,22 +140,10 @@ export function tuneTolerance(state, k, switchAt) {
   return FINEST_TOLERANCE * current / switchAt;
 }
 
-// `viewer.measurePopSpike(options)` on the page's viewer (see src/web/pop_spike.rs). Uses the test
-// hook's method when the page exposes one; otherwise finds the viewer by wrapping
-// `Viewer.prototype.frame` of the page's own wasm module (the same module instance: same URL) and
-// drawing one frame at `nowMs` (the time of the last frame, so the clocks do not move).
+// `viewer.measurePopSpike(options)` on the page's viewer (see src/web/pop_spike.rs), through the
+// test hook.
 export function measurePopSpike(page, nowMs, options = {}) {
-  return page.evaluate(async ([o, now]) => {
-    if (window.__clod.measurePopSpike) return window.__clod.measurePopSpike(o);
-    if (!window.__clodViewer) {
-      const build = window.__clod.state().backend === 'webgpu' ? 'pkg' : 'pkg-webgl';
-      const { Viewer } = await import(new URL(`${build}/clod_viewer.js`, location.href).href);
-      const frame = Viewer.prototype.frame;
-      Viewer.prototype.frame = function (t) { window.__clodViewer = this; return frame.call(this, t); };
-      try { window.__clod.renderFrame(now); } finally { Viewer.prototype.frame = frame; }
-    }
-    return window.__clodViewer.measurePopSpike(o);
-  }, [options, nowMs]);
+  return page.evaluate((o) => window.__clod.measurePopSpike(o), options);
 }
 
 // A viewport for tests that draw many frames: a 668 × 223 canvas (three views about 220 px
