@@ -158,6 +158,7 @@ export class ClodViewerElement extends HTMLElement {
   #frameMs = 0;
   #observers = [];
   #pointers = new Map();
+  #lastState = null;
 
   connectedCallback() {
     if (!this.#canvas) this.#buildDom();
@@ -204,8 +205,18 @@ export class ClodViewerElement extends HTMLElement {
   setTime(seconds) { this.setState({ time: Number(seconds) }); }
   /** Changes viewer settings (see the README's list of keys); throws on an unknown key or bad value. */
   setState(state) { this.#requireViewer().setState(state); this.#schedule(); }
-  /** What the views show: levels, triangles, t, backend, … (see the README). */
-  state() { return this.#requireViewer().state(); }
+  /**
+   * What the views show: levels, triangles, t, backend, … (see the README). While a readback or a
+   * pop-spike measurement holds the viewer, the last state read.
+   */
+  state() {
+    try {
+      this.#lastState = this.#requireViewer().state();
+    } catch (e) {
+      if (!this.#lastState || !String(e.message).includes('busy')) throw e;
+    }
+    return this.#lastState;
+  }
   /** Draws one frame at `nowMs` (for `manual-frames`) and returns the state. */
   renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
   /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */
@@ -404,6 +415,7 @@ export class ClodViewerElement extends HTMLElement {
     }
     this.#viewer?.free();
     this.#viewer = viewer;
+    this.#lastState = null;
     this.#backend = backend;
     this.#canvas.replaceWith(canvas);
     this.#canvas = canvas;
@@ -486,7 +498,7 @@ export class ClodViewerElement extends HTMLElement {
   }
 
   #updateLabels() {
-    const state = this.#viewer.state();
+    const state = this.state();
     const dpr = this.#canvas.width / this.#canvas.clientWidth || 1;
     this.#labels.forEach((label, i) => {
       const view = state.views[i];
@@ -511,7 +523,7 @@ export class ClodViewerElement extends HTMLElement {
 
   #camera(update) {
     if (!this.#viewer) return;
-    const s = this.#viewer.state();
+    const s = this.state();
     const next = {};
     if (update.yaw || update.pitch) {
       next.yaw = ((s.yaw + (update.yaw ?? 0) + 540) % 360) - 180;
@@ -520,8 +532,22 @@ export class ClodViewerElement extends HTMLElement {
     if (update.pan) next.pan = [s.pan[0] + update.pan[0], s.pan[1] + update.pan[1]];
     if (update.zoom) { next.distanceMode = 'manual'; next.distance = Math.min(100, Math.max(0.2, s.distance * update.zoom)); }
     if (update.reset) next.resetCamera = true;
-    this.setState(next);
+    try {
+      this.setState(next);
+    } catch (e) {
+      if (String(e.message).includes('busy')) return; // a measurement holds the viewer: drop the gesture
+      throw e;
+    }
     this.dispatchEvent(new CustomEvent('camerachange'));
+  }
+
+  // CSS pixels per framing distance in the plane looked at, so a pan moves the character with the
+  // pointer: a view spans 2 tan(fovy / 2) = 0.83 (fovy 45°) × the camera distance.
+  #viewHeight() {
+    const state = this.#lastState;
+    const dpr = this.#canvas.width / this.#canvas.clientWidth || 1;
+    const pixels = state?.views[0] ? state.views[0].rect[3] / dpr : this.#canvas.clientHeight;
+    return Math.max(1, pixels) / (0.83 * (state?.distance ?? 1));
   }
 
   #wireInput() {
@@ -546,10 +572,10 @@ export class ClodViewerElement extends HTMLElement {
         const other = a === last ? b : a;
         const before = Math.hypot(last.x - other.x, last.y - other.y);
         const after = Math.hypot(e.clientX - other.x, e.clientY - other.y);
-        const viewHeight = canvas.clientHeight / (this.#viewer?.state().stacked ? 3 : 1);
+        const viewHeight = this.#viewHeight();
         if (before > 0 && after > 0) this.#camera({ zoom: before / after, pan: [-dx / viewHeight, dy / viewHeight] });
       } else if (e.shiftKey || e.buttons === 4 || e.buttons === 2) {
-        const viewHeight = canvas.clientHeight / (this.#viewer?.state().stacked ? 3 : 1);
+        const viewHeight = this.#viewHeight();
         this.#camera({ pan: [-dx / viewHeight, dy / viewHeight] });
       } else {
         this.#camera({ yaw: -dx * DEGREES_PER_PIXEL, pitch: dy * DEGREES_PER_PIXEL });

@@ -79,6 +79,22 @@ pub fn framing_distance(radius: f32) -> f32 {
     radius / (FOVY * 0.5).sin()
 }
 
+/// The distances an automatic dolly sweeps between, from the levels' switch distances (`switch[k]`:
+/// where level `k` takes over, ascending, the same units as `framing`).
+///
+/// It starts just before the second level's switch, so the finest level is seen, but never
+/// nearer than half the framing distance (closer, the character overflows the view and the
+/// camera enters the body) nor farther than the framing distance; it ends past the coarsest
+/// switch (30 % beyond, so the last level is seen settled), at least twice `near` and at most 100
+/// framing distances (beyond, the character is a few pixels tall). No switches: framed to twice that.
+pub fn dolly_range(framing: f32, switch: &[f32]) -> (f32, f32) {
+    let before_second = switch.get(1).filter(|d| d.is_finite()).map_or(framing, |d| 0.8 * d);
+    let near = before_second.clamp(0.5 * framing, framing);
+    let last = switch.last().copied().filter(|d| d.is_finite()).unwrap_or(0.0);
+    let far = (1.3 * last).clamp(2.0 * near, 100.0 * framing);
+    (near, far)
+}
+
 /// Distance of a dolly that sweeps from `near` to `far` and back every `period` seconds.
 ///
 /// The sweep is geometric (equal times per doubling of the distance), since level errors grow
@@ -98,6 +114,22 @@ mod tests {
     use super::*;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn dolly_range_spans_the_switches_within_sensible_distances() {
+        // Switches from a tenth to three framing distances: from half framed to 3.9 framed.
+        let (near, far) = dolly_range(2.0, &[0.0, 0.2, 1.0, 6.0]);
+        assert!(near == 1.0 && (far - 7.8).abs() < 1e-5, "{near} {far}");
+        // Switches between 0.8 and 1.5 framed: near the second switch, far at least twice near.
+        let (near, far) = dolly_range(1.0, &[0.0, 0.9, 1.5]);
+        assert!((near - 0.72).abs() < 1e-6 && (far - 1.95).abs() < 1e-6, "{near} {far}");
+        // A last switch close to near: far is still twice near.
+        assert_eq!(dolly_range(1.0, &[0.0, 1.0, 1.2]), (0.8, 1.6));
+        // Far switches are capped at 100 framed; no switches at all give framed to twice that.
+        assert_eq!(dolly_range(1.0, &[0.0, 5.0, 500.0]), (1.0, 100.0));
+        assert_eq!(dolly_range(1.0, &[]), (1.0, 2.0));
+        assert_eq!(dolly_range(1.0, &[0.0, f32::INFINITY]), (1.0, 2.0));
+    }
 
     #[test]
     fn target_projects_to_the_view_centre() {

@@ -292,10 +292,8 @@ impl Inner {
         self.distance = match s.distance_mode {
             DistanceMode::Manual => s.manual_distance * self.framing,
             DistanceMode::Dolly => {
-                // Sweep from framed to past the coarsest switch, within 2× to 100× framed.
-                let far = (switch.last().copied().unwrap_or(0.0) * 1.3)
-                    .clamp(2.0 * self.framing, 100.0 * self.framing);
-                camera::dolly_distance(self.framing, far, s.dolly_period, self.dolly_time)
+                let (near, far) = camera::dolly_range(self.framing, &switch);
+                camera::dolly_distance(near, far, s.dolly_period, self.dolly_time)
             }
         };
         let levels = self.lod.levels.len();
