@@ -228,7 +228,10 @@ function showStats() {
     ['Pop spike', spike ? formatSpike(spike) : transitionSeen || measuring ? 'measuring…' : 'after the first transition'],
   ];
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
-  stats.replaceChildren(...rows.flatMap(([k, v]) => [Object.assign(document.createElement('dt'), { textContent: k }), Object.assign(document.createElement('dd'), { textContent: v })]));
+  stats.replaceChildren(...rows.flatMap(([k, v]) => [
+    Object.assign(document.createElement('dt'), { textContent: k }),
+    Object.assign(document.createElement('dd'), { textContent: v, id: `stat-${k.toLowerCase().replaceAll(' ', '-')}` }),
+  ]));
   const clip = clips[s.clip];
   if (clip && clip.duration > 0 && document.activeElement !== $('scrub')) {
     $('scrub').value = (s.animTime % clip.duration) / clip.duration;

@@ -22,7 +22,7 @@ use crate::character::Character;
 use crate::clod::{self, Clod, ClodOptions};
 use crate::import;
 use crate::render::camera::{self, OrbitCamera, FOVY};
-use crate::render::gpu::{BackendChoice, FrameInput, Renderer};
+use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::layout::{layout, Layout};
 use crate::render::lod_source::LodSource;
 use crate::render::plan::{plan_view, Method, ViewPlan};
@@ -105,6 +105,8 @@ impl Viewer {
             Some(array.to_vec())
         };
         let character = import::from_bytes(&bytes, &mut resolver).map_err(js_error)?;
+        drop(bytes);
+        next_task().await;
         let mut warnings = character.warnings.clone();
         let prebuilt = settings::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
         let built_off_main_thread = prebuilt.is_some();
@@ -122,10 +124,12 @@ impl Viewer {
                 }
             },
         };
+        next_task().await;
         let lod = match &clod {
             Some(c) => LodSource::from_clod(&character, c),
             None => LodSource::full_mesh(&character),
         };
+        next_task().await;
         let build_ms = match settings::get(&options, "buildMs").and_then(|v| v.as_f64()) {
             Some(ms) if built_off_main_thread => ms,
             _ => js_sys::Date::now() - started,

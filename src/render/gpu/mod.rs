@@ -226,7 +226,12 @@ impl Renderer {
         });
         let materials = upload_materials(&device, &queue, &layouts.material, character).await?;
         let default_slot = materials.len() - 1;
-        let levels = lod.levels.iter().map(|level| upload_level(&device, level, default_slot)).collect();
+        let mut levels = Vec::with_capacity(lod.levels.len());
+        for level in &lod.levels {
+            next_task().await;
+            levels.push(upload_level(&device, level, default_slot));
+        }
+        next_task().await;
         let pipelines = create_pipelines(&device, &layouts, color_format, sample_count);
         let composed = config.usage.contains(wgpu::TextureUsages::COPY_DST);
         let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
@@ -468,4 +473,17 @@ fn push_error(sink: &Mutex<Vec<String>>, message: String) {
     if errors.len() < 16 {
         errors.push(message);
     }
+}
+
+/// Lets the browser run other tasks (input, drawing, other elements) before the next step of a
+/// long setup, so that no single task blocks the page for long: decoding the built-in
+/// character's LOD chain, building its level buffers and starting the GPU are each ~50–100 ms.
+pub async fn next_task() {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        let scheduled = web_sys::window().map(|w| w.set_timeout_with_callback(&resolve));
+        if !matches!(scheduled, Some(Ok(_))) {
+            let _ = resolve.call0(&wasm_bindgen::JsValue::NULL);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
 }
