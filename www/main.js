@@ -33,6 +33,8 @@ if (params.get('variant')) viewer.setAttribute('variant', params.get('variant'))
 if (params.get('tolerance')) viewer.setAttribute('tolerance', params.get('tolerance'));
 if (params.has('t') || testMode) viewer.removeAttribute('autoplay');
 if (params.get('model')) viewer.setAttribute('src', params.get('model'));
+// The element starts loading when it is defined: only now, with the URL's attributes set.
+await import('./clod-viewer.js');
 
 viewer.addEventListener('progress', (e) => {
   const { phase, fraction } = e.detail;
