@@ -589,6 +589,8 @@ impl<'a> Engine<'a> {
         true
     }
 
+    /// Whether a live triangle has classes `c`, `a` and `b` (corner lists hold only live
+    /// triangles).
     fn has_triangle(&self, c: u32, a: u32, b: u32) -> bool {
         self.lists.iter(c).any(|corner| {
             let (n, p) = other_corners(corner);
@@ -750,19 +752,32 @@ impl<'a> Engine<'a> {
             corner_changes_end: self.log.corner_changes.len() as u32,
         });
 
-        // Re-queue: every edge of v, and every edge of a parked or junction neighbour. A junction's
-        // wedge pairing along an edge depends on the triangles beside that edge, which this
-        // collapse may have changed, so its edges are priced again like a parked vertex's.
+        // Re-queue: every edge of v, every edge of a parked neighbour (its failed checks may pass
+        // now), and the edges of a junction neighbour whose plan this collapse may have changed.
         let mut neighbours = std::mem::take(&mut self.neighbours);
         let mut second = std::mem::take(&mut self.second_neighbours);
         self.neighbours_into(v, &mut neighbours);
+        let is_third = |x: u32| x == thirds[0] || x == thirds[1];
         for &x in &neighbours {
-            if self.parked[x as usize] || self.kind[x as usize] == Kind::Junction {
-                self.parked[x as usize] = false;
-                self.version[x as usize] = self.version[x as usize].wrapping_add(1);
+            let xi = x as usize;
+            if self.parked[xi] || (self.kind[xi] == Kind::Junction && is_third(x)) {
+                self.parked[xi] = false;
+                self.version[xi] = self.version[xi].wrapping_add(1);
                 self.neighbours_into(x, &mut second);
                 for &y in &second {
                     if y != v {
+                        self.queue_edge(x, y);
+                    }
+                }
+            } else if self.kind[xi] == Kind::Junction {
+                // A junction's plan along x–y scans the triangles of x beside that edge (its wedge
+                // pairing) and, from y's side, which wedges of y live triangles use. This collapse
+                // changed only triangles now around v and killed those at the thirds, so x–y
+                // changed only when x, y and v share a triangle or y is a third; every other
+                // queued entry of x is still exact and stays (no version bump).
+                self.neighbours_into(x, &mut second);
+                for &y in &second {
+                    if y != v && (is_third(y) || self.has_triangle(v, x, y)) {
                         self.queue_edge(x, y);
                     }
                 }
