@@ -1,12 +1,11 @@
 //! Native build time of the articulated progressive mesh, for the benchmark's "native next to
 //! wasm" column: `cargo run --release --example clod_timing -- FILE.glb...` prints one JSON line
-//! per file: `{"file": ..., "triangles": ..., "ms": ...}` (best of at least three builds and of
-//! as many as fit in half a second, since small models build in a few milliseconds on a shared
-//! machine; the same level
-//! counts as bench/lod-vs-meshoptimizer.mjs: 50/25/10/5/1 %), and `"phases"`: the milliseconds of
-//! that best build between the build's progress reports: poses (set-up and multi-pose quadrics),
-//! simplify (collapses and progressive mesh), back-propagation, and chain (levels, Tipsify,
-//! ancestor tables).
+//! per file: `{"file": ..., "triangles": ..., "ms": ..., "builds": ..., "phases": {...}}`.
+//! `ms` is the best of at least three builds and of as many as fit in half a second (small
+//! models build in a few milliseconds on a shared machine), with the level counts of
+//! bench/lod-vs-meshoptimizer.mjs (50/25/10/5/1 %); `phases` splits that best build at the
+//! build's progress reports: poses (set-up and multi-pose quadrics), simplify (collapses and
+//! progressive mesh), back-propagation, and chain (levels, Tipsify, ancestor tables).
 
 use std::time::Instant;
 
@@ -59,7 +58,7 @@ fn main() {
             .map(|(name, ms)| format!("\"{name}\": {ms:.2}"))
             .collect();
         println!(
-            "{{\"file\": {file:?}, \"triangles\": {n}, \"ms\": {best:.2}, \"phases\": {{{}}}}}",
+            "{{\"file\": {file:?}, \"triangles\": {n}, \"ms\": {best:.2}, \"builds\": {builds}, \"phases\": {{{}}}}}",
             phases.join(", ")
         );
     }
