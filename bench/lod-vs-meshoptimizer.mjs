@@ -5,7 +5,8 @@
 //
 // For each model in ../shared/models and the built-in character it prints, as ratios measured in this run:
 //  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
-//     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last);
+//     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last),
+//     each the best of at least 5 runs and of as many as fit in 1.5 s;
 //  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
 //     diagonal, same seed and sample count for both);
 //  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
@@ -52,9 +53,14 @@ function meshoptLevels(indices, positions, counts, chained) {
   return levels;
 }
 
-function timeIt(fn, repeats = 3) {
+/**
+ * Best time of `fn`: at least `minRuns` runs and as many as fit in `budgetMs`. The machine is shared,
+ * so one slow run says little; small models build in about a millisecond, so they get many runs.
+ */
+function timeIt(fn, minRuns = 5, budgetMs = 1500) {
   let best = Infinity, result;
-  for (let r = 0; r < repeats; r++) {
+  const started = now();
+  for (let r = 0; r < minRuns || now() - started < budgetMs; r++) {
     const t0 = now();
     result = fn();
     best = Math.min(best, now() - t0);
@@ -92,7 +98,7 @@ for (const [name, bytes, path] of list) {
   const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
-  const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }), 2);
+  const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
   const clod = character.buildClod({ levels: counts, pose: 'bind' });
 
   console.log(`\n## ${name}: ${full} triangles, ${character.vertexCount} vertices, ${character.jointCount} joints`);

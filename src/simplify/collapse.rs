@@ -10,8 +10,9 @@
 //!
 //! The queue (`queue.rs`) is a heap keyed by (cost, u, v) — a total order, so the collapse
 //! sequence is deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
-//! check marks both ends *parked*; when a later collapse changes a parked class's neighbourhood,
-//! its edges are queued again.
+//! check marks both ends *parked* and remembers the edge at both; when a later collapse changes a
+//! parked class's neighbourhood, its failed edges are queued again (its other entries are still
+//! exact and stay).
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -93,7 +94,10 @@ struct Engine<'a> {
     vertex_id: Vec<u32>,
     alive: Vec<bool>,
     version: Vec<u32>,
-    parked: Vec<bool>,
+    /// Per class, the head of its list of failed partners in `failed` (NONE: not parked).
+    failed_head: Vec<u32>,
+    /// Failed-edge records: (partner class, next record or NONE).
+    failed: Vec<(u32, u32)>,
     // Queue.
     queue: Queue,
     /// Queue length after the last purge of stale entries.
@@ -169,7 +173,8 @@ impl<'a> Engine<'a> {
             vertex_id: (0..n as u32).collect(),
             alive: vec![true; class_count],
             version: vec![0; class_count],
-            parked: vec![false; class_count],
+            failed_head: vec![NONE; class_count],
+            failed: Vec::new(),
             queue: Queue::default(),
             purged_length: 0,
             mark: vec![0; class_count],
@@ -300,8 +305,8 @@ impl<'a> Engine<'a> {
                 continue;
             };
             if !self.check(&plan) {
-                self.parked[ui] = true;
-                self.parked[vi] = true;
+                self.park(u, v);
+                self.park(v, u);
                 continue;
             }
             self.apply(&plan);
@@ -589,6 +594,15 @@ impl<'a> Engine<'a> {
         true
     }
 
+    /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
+    fn park(&mut self, c: u32, partner: u32) {
+        let record = self.failed.len() as u32;
+        self.failed.push((partner, self.failed_head[c as usize]));
+        self.failed_head[c as usize] = record;
+    }
+
+    /// Whether a live triangle has classes `c`, `a` and `b` (corner lists hold only live
+    /// triangles).
     fn has_triangle(&self, c: u32, a: u32, b: u32) -> bool {
         self.lists.iter(c).any(|corner| {
             let (n, p) = other_corners(corner);
@@ -740,7 +754,7 @@ impl<'a> Engine<'a> {
         self.alive[ui] = false;
         self.version[ui] = self.version[ui].wrapping_add(1);
         self.version[vi] = self.version[vi].wrapping_add(1);
-        self.parked[vi] = false;
+        self.failed_head[vi] = NONE; // every edge of v is queued again below
         self.log.steps.push(RawStep {
             cost: plan.cost,
             distance,
@@ -750,21 +764,49 @@ impl<'a> Engine<'a> {
             corner_changes_end: self.log.corner_changes.len() as u32,
         });
 
-        // Re-queue: every edge of v, and every edge of a parked or junction neighbour. A junction's
-        // wedge pairing along an edge depends on the triangles beside that edge, which this
-        // collapse may have changed, so its edges are priced again like a parked vertex's.
+        // Re-queue: every edge of v, the failed edges of a parked neighbour (they may pass now),
+        // and the edges of a neighbour whose plan this collapse may have changed.
+        //
+        // A plan along x–y (neither v) pairs the wedges of x and y at their corners in the
+        // triangles beside the edge, and needs every wedge of the moving end that a live triangle
+        // uses to follow one. This collapse changed no corner of x or y (only corners of u, now
+        // v) and removed triangles only at the thirds, so x–y changed only when x or y is a third
+        // (one of its wedges may have fallen out of use). A third's edges are priced again when
+        // it is a junction or parked, whose plans depend on that (and had been, before this rule:
+        // every edge of every junction and parked neighbour); every other queued entry is still
+        // exact and stays.
         let mut neighbours = std::mem::take(&mut self.neighbours);
         let mut second = std::mem::take(&mut self.second_neighbours);
         self.neighbours_into(v, &mut neighbours);
+        let is_third = |x: u32| x == thirds[0] || x == thirds[1];
         for &x in &neighbours {
-            if self.parked[x as usize] || self.kind[x as usize] == Kind::Junction {
-                self.parked[x as usize] = false;
-                self.version[x as usize] = self.version[x as usize].wrapping_add(1);
+            let xi = x as usize;
+            let parked = self.failed_head[xi] != NONE;
+            if !parked && self.kind[xi] != Kind::Junction {
+                continue;
+            }
+            if is_third(x) {
+                self.failed_head[xi] = NONE;
+                self.version[xi] = self.version[xi].wrapping_add(1);
                 self.neighbours_into(x, &mut second);
                 for &y in &second {
                     if y != v {
                         self.queue_edge(x, y);
                     }
+                }
+                continue;
+            }
+            self.neighbours_into(x, &mut second);
+            let stamp = self.next_stamp();
+            let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
+            while record != NONE {
+                let (partner, next) = self.failed[record as usize];
+                self.mark[partner as usize] = stamp;
+                record = next;
+            }
+            for &y in &second {
+                if y != v && (is_third(y) || self.mark[y as usize] == stamp) {
+                    self.queue_edge(x, y);
                 }
             }
         }
