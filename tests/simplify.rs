@@ -427,3 +427,20 @@ fn bad_input_is_an_error() {
     let opts = SimplifyOptions { normal_channel: Some(0), ..SimplifyOptions::default() };
     assert!(matches!(simplify(&mesh.input(), &opts), Err(SimplifyError::NormalChannel { .. })));
 }
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn progress_rises_to_the_target_about_fifty_times_and_changes_nothing() {
+    let mesh = meshgen::torus(32, 24, 0.02, 9);
+    let options = options(CollapseMode::Full, 100);
+    let mut reports = Vec::new();
+    let pm = clod_viewer::simplify::simplify_with_progress(&mesh.input(), &options, &mut |f| reports.push(f))
+        .expect("valid input");
+    assert!((40..=51).contains(&reports.len()), "{} reports", reports.len());
+    assert!(reports.windows(2).all(|w| w[0] < w[1]), "{reports:?}");
+    assert!(
+        reports[0] > 0.0 && *reports.last().unwrap() >= 0.98 && *reports.last().unwrap() <= 1.0,
+        "{reports:?}"
+    );
+    assert_eq!(pm, mesh.simplify(&options), "progress reporting changed the result");
+}

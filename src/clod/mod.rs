@@ -187,7 +187,7 @@ pub fn build(
         normal_channel: Some(0),
         ..SimplifyOptions::default()
     };
-    let pm = simplify::simplify(&input, &simplify_options)?;
+    let pm = simplify::simplify_with_progress(&input, &simplify_options, &mut |f| progress(0.15 + 0.65 * f))?;
     progress(0.8);
 
     // 3. Bind-space data of every vertex id.

@@ -54,11 +54,21 @@ struct Plan {
     placement: Placement,
 }
 
+/// How often a run reports progress: often enough for a smooth progress bar, rarely enough that
+/// the calls (into JavaScript, in the browser's worker) cost nothing measurable.
+pub(crate) const PROGRESS_STEPS: usize = 50;
+
 /// Runs the whole simplification on validated input.
-pub(crate) fn run(input: &SimplifyInput, options: &SimplifyOptions) -> CollapseLog {
+/// `progress` receives the fraction of the triangles to remove that are gone, rising, at most
+/// [`PROGRESS_STEPS`] times.
+pub(crate) fn run(
+    input: &SimplifyInput,
+    options: &SimplifyOptions,
+    progress: &mut dyn FnMut(f32),
+) -> CollapseLog {
     let mut engine = Engine::new(input, options);
     engine.queue_all_edges();
-    let stop = engine.collapse_until(options.target_triangles, options.max_error);
+    let stop = engine.collapse_until(options.target_triangles, options.max_error, progress);
     engine.log.stop = stop;
     engine.log
 }
@@ -272,8 +282,16 @@ impl<'a> Engine<'a> {
     }
 
     /// Pops collapses in order until the target, the error limit or the end of the queue.
-    fn collapse_until(&mut self, target: usize, max_error: f32) -> StopReason {
+    fn collapse_until(&mut self, target: usize, max_error: f32, progress: &mut dyn FnMut(f32)) -> StopReason {
+        let start = self.live_triangles;
+        let span = start.saturating_sub(target).max(1);
+        let step = span.div_ceil(PROGRESS_STEPS).max(1);
+        let mut next_report = start.saturating_sub(step);
         loop {
+            if self.live_triangles <= next_report {
+                progress((start - self.live_triangles) as f32 / span as f32);
+                next_report = next_report.saturating_sub(step);
+            }
             if target > 0 && self.live_triangles <= target {
                 return StopReason::TargetReached;
             }

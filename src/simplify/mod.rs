@@ -142,8 +142,21 @@ pub enum SimplifyError {
 /// Any [`SimplifyError`]: inconsistent array lengths, out-of-range indices, non-finite values,
 /// more than 2^30 vertices or triangles.
 pub fn simplify(input: &SimplifyInput, options: &SimplifyOptions) -> Result<ProgressiveMesh, SimplifyError> {
+    simplify_with_progress(input, options, &mut |_| {})
+}
+
+/// [`simplify`], calling `progress` with the fraction (0..1, rising) of the triangles to remove
+/// that are gone, about fifty times over a run.
+///
+/// # Errors
+/// As [`simplify`].
+pub fn simplify_with_progress(
+    input: &SimplifyInput,
+    options: &SimplifyOptions,
+    progress: &mut dyn FnMut(f32),
+) -> Result<ProgressiveMesh, SimplifyError> {
     validate(input, options)?;
-    let log = collapse::run(input, options);
+    let log = collapse::run(input, options, progress);
     Ok(ProgressiveMesh::from_log(log, input.indices, input.attribute_weights.len(), input.positions.len()))
 }
 

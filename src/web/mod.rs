@@ -112,10 +112,9 @@ impl Viewer {
         let built_off_main_thread = prebuilt.is_some();
         let started = js_sys::Date::now();
         let clod = match prebuilt {
-            Some(encoded) => Some(
-                clod::bytes::decode(&encoded.to_vec(), &character)
-                    .map_err(|e| JsError::new(&format!("the LOD chain built in the worker does not fit: {e}")))?,
-            ),
+            Some(encoded) => Some(clod::bytes::decode(&encoded.to_vec(), &character).map_err(|e| {
+                JsError::new(&format!("the LOD chain built in the worker does not fit: {e}"))
+            })?),
             None => match clod::build(&character, &ClodOptions::default(), &mut |_| {}) {
                 Ok(c) => Some(c),
                 Err(e) => {
