@@ -556,8 +556,10 @@ export class ClodViewerElement extends HTMLElement {
     canvas.dataset.wired = '1';
     const DEGREES_PER_PIXEL = 0.4;
     canvas.addEventListener('pointerdown', (e) => {
-      canvas.setPointerCapture(e.pointerId);
       this.#pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+      // Keeps the drag when the pointer leaves the canvas; a pointer the browser no longer
+      // tracks (already lifted) cannot be captured, and the drag works without it.
+      try { canvas.setPointerCapture(e.pointerId); } catch { /* not capturable */ }
     });
     const up = (e) => this.#pointers.delete(e.pointerId);
     canvas.addEventListener('pointerup', up);
@@ -573,7 +575,8 @@ export class ClodViewerElement extends HTMLElement {
         const before = Math.hypot(last.x - other.x, last.y - other.y);
         const after = Math.hypot(e.clientX - other.x, e.clientY - other.y);
         const viewHeight = this.#viewHeight();
-        if (before > 0 && after > 0) this.#camera({ zoom: before / after, pan: [-dx / viewHeight, dy / viewHeight] });
+        // The pinch's midpoint moves by half of this finger's motion: the view pans with it.
+        if (before > 0 && after > 0) this.#camera({ zoom: before / after, pan: [-dx / 2 / viewHeight, dy / 2 / viewHeight] });
       } else if (e.shiftKey || e.buttons === 4 || e.buttons === 2) {
         const viewHeight = this.#viewHeight();
         this.#camera({ pan: [-dx / viewHeight, dy / viewHeight] });

@@ -214,3 +214,28 @@ test('a phone-sized window stacks the views and draws all three', async () => {
   const pixels = await readPixels(page);
   for (const view of state.views) assert.ok(foregroundFraction(crop(pixels, view.rect)) > 0.02, `${view.method} view is blank`);
 });
+
+test('touch: one finger orbits, two fingers pinch to zoom and pan', async () => {
+  const page = await openPage(browser);
+  const before = await frame(page, 1000, { paused: true });
+  // Pointer events as a touch screen sends them (playwright's touchscreen taps only).
+  const touch = (type, id, x, y) => page.evaluate(([type, id, x, y]) => {
+    const canvas = document.querySelector('#viewer canvas');
+    const r = canvas.getBoundingClientRect();
+    canvas.dispatchEvent(new PointerEvent(type, { pointerId: id, pointerType: 'touch', isPrimary: id === 1, clientX: r.left + x, clientY: r.top + y, buttons: type === 'pointerup' ? 0 : 1, bubbles: true }));
+  }, [type, id, x, y]);
+  await touch('pointerdown', 1, 200, 200);
+  await touch('pointermove', 1, 260, 200);
+  await touch('pointerup', 1, 260, 200);
+  const orbited = await frame(page, 1100);
+  assert.ok(Math.abs(orbited.yaw - before.yaw) > 5, `yaw ${before.yaw} → ${orbited.yaw}`);
+  await touch('pointerdown', 1, 200, 200);
+  await touch('pointerdown', 2, 300, 200);
+  await touch('pointermove', 2, 400, 200); // fingers spread: zoom in
+  await touch('pointerup', 2, 400, 200);
+  await touch('pointerup', 1, 200, 200);
+  const zoomed = await frame(page, 1200);
+  assert.equal(zoomed.distanceMode, 'manual');
+  assert.ok(zoomed.distance < 0.8 * orbited.distance, `distance ${orbited.distance} → ${zoomed.distance}`);
+  assert.notDeepEqual(zoomed.pan, orbited.pan, 'the pinch midpoint moved, so the view pans');
+});
