@@ -234,6 +234,7 @@ function showStats() {
     Object.assign(document.createElement('dt'), { textContent: k }),
     Object.assign(document.createElement('dd'), { textContent: v, id: `stat-${k.toLowerCase().replaceAll(' ', '-')}` }),
   ]));
+  if (s.distanceMode === 'dolly' && document.activeElement !== $('distance')) syncControls(s);
   const clip = clips[s.clip];
   if (clip && clip.duration > 0 && document.activeElement !== $('scrub')) {
     $('scrub').value = (s.animTime % clip.duration) / clip.duration;
