@@ -22,7 +22,19 @@ fn skin_shader_validates_and_has_the_entry_points_the_renderer_binds() {
     let (module, _) = parse_and_validate(SKIN_WGSL);
     let mut names: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
     names.sort();
-    assert_eq!(names, ["fs_main", "fs_wire", "vs_geomorph", "vs_level", "vs_wire_geomorph", "vs_wire_level"]);
+    assert_eq!(
+        names,
+        [
+            "fs_bone",
+            "fs_main",
+            "fs_wire",
+            "vs_bone",
+            "vs_geomorph",
+            "vs_level",
+            "vs_wire_geomorph",
+            "vs_wire_level"
+        ]
+    );
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

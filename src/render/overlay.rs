@@ -1,9 +1,15 @@
-//! Overlays drawn on all three views alike: the triangle edges of the drawn level (wireframe), or
-//! a colour per level (so a change of level is seen even where shading hides it). Pure data: the
-//! edge list each level's line-list index buffer holds, and the tint each draw gets.
+//! Overlays drawn on all three views alike: the triangle edges of the drawn level (wireframe), a
+//! colour per level (so a change of level is seen even where shading hides it), or the skeleton
+//! (a line from each skin joint to its parent joint, in the animated pose). Pure data: the edge
+//! list each level's line-list index buffer holds, the tint each draw gets, and the bone segments
+//! of a pose in model space.
 //!
 //! A geomorphing draw shows neither level exactly, so its tint is the two levels' tints mixed by
 //! the morph parameter `t`, as its shape is.
+
+use glam::Mat4;
+
+use crate::skeleton::Skeleton;
 
 /// What is drawn over the shaded views.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -14,6 +20,8 @@ pub enum Overlay {
     Wireframe,
     /// Each level tinted with its own colour.
     Levels,
+    /// The skin's bones, bright lines drawn through the body.
+    Skeleton,
 }
 
 /// Distinct colours for levels 0, 1, 2, … (linear RGB), repeating after the last: blue, orange,
@@ -60,6 +68,40 @@ pub fn edge_indices(triangles: &[u32]) -> Vec<u32> {
     edges.into_iter().flat_map(|(a, b)| [a, b]).collect()
 }
 
+/// The bones of the skin in a pose, as a line list in model space: for each joint whose node has
+/// an ancestor that is also a skin joint, the nearest such ancestor's origin then the joint's own
+/// origin (the translation of `model_from_node`). Joints come in skin order; a joint without a
+/// joint above it (the root, or a rigid part's joint hung under plain nodes only) draws nothing,
+/// so `n` joints give at most `n - 1` segments.
+///
+/// `model_from_node` is [`Skeleton::model_from_node`] of the pose, the one the skin matrices are
+/// computed from. A joint naming a node past its end is skipped (the importer never makes one).
+pub fn bone_segments(skeleton: &Skeleton, model_from_node: &[Mat4]) -> Vec<[f32; 3]> {
+    let mut joint_of_node = vec![None; skeleton.nodes.len()];
+    for (j, joint) in skeleton.joints.iter().enumerate() {
+        if let Some(slot) = joint_of_node.get_mut(joint.node) {
+            slot.get_or_insert(j);
+        }
+    }
+    let origin = |node: usize| model_from_node.get(node).map(|m| m.w_axis.truncate().to_array());
+    let mut lines = Vec::new();
+    for joint in &skeleton.joints {
+        // Parents come first (`parent < node`), so this walk ends within `nodes.len()` steps.
+        let mut up = skeleton.nodes.get(joint.node).and_then(|n| n.parent);
+        while let Some(node) = up {
+            if let Some(parent_joint) = joint_of_node.get(node).copied().flatten() {
+                let parent_node = skeleton.joints[parent_joint].node;
+                if let (Some(a), Some(b)) = (origin(parent_node), origin(joint.node)) {
+                    lines.extend([a, b]);
+                }
+                break;
+            }
+            up = skeleton.nodes.get(node).and_then(|n| n.parent);
+        }
+    }
+    lines
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -90,5 +132,38 @@ mod tests {
             assert!((half[c] - 0.5 * (fine[c] + coarse[c])).abs() < 1e-6);
         }
         assert_eq!(half[3], TINT_STRENGTH);
+    }
+
+    #[test]
+    fn a_three_joint_chain_draws_two_bones_from_parent_to_child() {
+        use crate::skeleton::{Node, SkinJoint, Transform};
+        use glam::{Quat, Vec3};
+        // node 0: plain scene root, moved up 10; node 1: hip (joint 0), at x = 1;
+        // node 2: knee (joint 2), 2 below the hip, turned 90° about z; node 3: foot (joint 1),
+        // 3 along the knee's x (which the turn points up: +y).
+        let node = |name: &str, parent, translation, rotation| Node {
+            name: name.into(),
+            parent,
+            rest: Transform { translation, rotation, scale: Vec3::ONE },
+        };
+        let skeleton = Skeleton {
+            nodes: vec![
+                node("root", None, Vec3::new(0.0, 10.0, 0.0), Quat::IDENTITY),
+                node("hip", Some(0), Vec3::new(1.0, 0.0, 0.0), Quat::IDENTITY),
+                node("knee", Some(1), Vec3::new(0.0, -2.0, 0.0), Quat::from_rotation_z(90f32.to_radians())),
+                node("foot", Some(2), Vec3::new(3.0, 0.0, 0.0), Quat::IDENTITY),
+            ],
+            joints: [1, 3, 2].map(|node| SkinJoint { node, joint_from_bind: Mat4::IDENTITY }).to_vec(),
+        };
+        let lines = bone_segments(&skeleton, &skeleton.model_from_node(&skeleton.rest_pose()));
+        let round = |p: [f32; 3]| p.map(|c| (c * 1e4).round() / 1e4 + 0.0);
+        let rounded: Vec<[f32; 3]> = lines.into_iter().map(round).collect();
+        // Skin order: the hip (no joint above) draws nothing; foot: knee → foot; knee: hip → knee.
+        assert_eq!(rounded, [[1.0, 8.0, 0.0], [1.0, 11.0, 0.0], [1.0, 10.0, 0.0], [1.0, 8.0, 0.0]]);
+        // No joints, or one joint, give no bones.
+        let lone = Skeleton { nodes: skeleton.nodes.clone(), joints: skeleton.joints[..1].to_vec() };
+        assert!(bone_segments(&lone, &lone.model_from_node(&lone.rest_pose())).is_empty());
+        let empty = Skeleton::default();
+        assert!(bone_segments(&empty, &[]).is_empty());
     }
 }

@@ -5,7 +5,8 @@
 // `vs_level` draws one level as it is; `vs_geomorph` also reads each vertex's ancestor in the next
 // coarser level (the same attributes, locations 6..11), skins both and interpolates by `draw.morph_t`
 // (0 = exactly the fine level, 1 = exactly the coarse one). The `vs_wire_*` twins and `fs_wire` draw
-// the wireframe overlay from line-list index buffers over the same vertices. Lighting is in model space: a hemisphere
+// the wireframe overlay from line-list index buffers over the same vertices; `vs_bone` and
+// `fs_bone` draw the skeleton overlay from a line list of posed joint positions. Lighting is in model space: a hemisphere
 // ambient plus one directional light, Lambert diffuse and a little Blinn-Phong. Colours are linear;
 // the target is sRGB, or the shader encodes when `camera.encode_srgb` is 1.
 
@@ -220,4 +221,21 @@ fn fs_wire(in: Varyings) -> @location(0) vec4<f32> {
         rgb = srgb_encode(rgb);
     }
     return vec4<f32>(rgb, 0.6 * draw.opacity);
+}
+
+// Skeleton overlay: one line per bone, endpoints already posed in model space (the CPU computes
+// them from the same pose as the joint matrices), drawn with depth test off so bones show through.
+@vertex
+fn vs_bone(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
+    return camera.clip_from_model * vec4<f32>(position, 1.0);
+}
+
+// Bones: opaque yellow-orange (linear), bright against the grey background and on skin or cloth.
+@fragment
+fn fs_bone() -> @location(0) vec4<f32> {
+    var rgb = vec3<f32>(1.0, 0.55, 0.02);
+    if (camera.encode_srgb == 1u) {
+        rgb = srgb_encode(rgb);
+    }
+    return vec4<f32>(rgb, 1.0);
 }

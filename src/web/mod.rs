@@ -25,6 +25,7 @@ use crate::render::camera::{self, OrbitCamera, FOVY};
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::layout::{layout, Layout};
 use crate::render::lod_source::LodSource;
+use crate::render::overlay::bone_segments;
 use crate::render::plan::{plan_view, Method, ViewPlan};
 use crate::render::schedule::{self, Schedule};
 use crate::render::uniforms::CameraRaw;
@@ -59,6 +60,8 @@ struct Inner {
     plans: [ViewPlan; 3],
     camera_raw: CameraRaw,
     skin: Vec<Mat4>,
+    /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
+    bones: Vec<[f32; 3]>,
     frames: u64,
     errors: Vec<String>,
     warnings: Vec<String>,
@@ -163,6 +166,7 @@ impl Viewer {
             plans: [empty.clone(), empty.clone(), empty],
             camera_raw: CameraRaw::zeroed(),
             skin: Vec::new(),
+            bones: Vec::new(),
             frames: 0,
             errors: Vec::new(),
             warnings,
@@ -205,8 +209,8 @@ impl Viewer {
     /// `duration` (seconds per level), `zone` (fraction), `variant`
     /// (`"naive"|"opaque-first"|"dither"`), `methods` (one to three of
     /// `"popping"|"alpha"|"geomorph"`: the views, in order), `continuousTriangles` (number, or null
-    /// for off), `overlay` (`"none"|"wireframe"|"levels"`: triangle edges, or a colour per level, on
-    /// every view).
+    /// for off), `overlay` (`"none"|"wireframe"|"levels"|"skeleton"`: triangle edges, a colour per level,
+    /// or the bones of the current pose, on every view).
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
         let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
@@ -250,6 +254,7 @@ impl Viewer {
             let input = FrameInput {
                 camera: guard.camera_raw,
                 skin: &guard.skin,
+                bones: &guard.bones,
                 views,
                 overlay: guard.settings.overlay,
             };
@@ -322,7 +327,11 @@ impl Inner {
             Some(clip) => self.character.pose_at(clip, self.anim_time as f32),
             None => self.character.skeleton.rest_pose(),
         };
-        self.skin = self.character.skin_matrices(&pose);
+        // `Character::skin_matrices` in two steps, so the bones share the pose's node matrices.
+        let skeleton = &self.character.skeleton;
+        let model_from_node = skeleton.model_from_node(&pose);
+        self.skin = skeleton.skin_matrices(&model_from_node);
+        self.bones = bone_segments(skeleton, &model_from_node);
     }
 
     fn frame_views(&self) -> [(crate::render::layout::Rect, &ViewPlan); 3] {
@@ -331,8 +340,13 @@ impl Inner {
 
     fn draw(&mut self) {
         let views = self.frame_views();
-        let input =
-            FrameInput { camera: self.camera_raw, skin: &self.skin, views, overlay: self.settings.overlay };
+        let input = FrameInput {
+            camera: self.camera_raw,
+            skin: &self.skin,
+            bones: &self.bones,
+            views,
+            overlay: self.settings.overlay,
+        };
         self.renderer.render(&input);
         self.frames += 1;
     }

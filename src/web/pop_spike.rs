@@ -182,6 +182,7 @@ impl Inner {
             let input = FrameInput {
                 camera: self.camera_raw,
                 skin: &self.skin,
+                bones: &self.bones,
                 views: self.frame_views(),
                 overlay: self.settings.overlay,
             };

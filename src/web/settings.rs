@@ -196,6 +196,7 @@ pub fn overlay_name(o: Overlay) -> &'static str {
         Overlay::None => "none",
         Overlay::Wireframe => "wireframe",
         Overlay::Levels => "levels",
+        Overlay::Skeleton => "skeleton",
     }
 }
 
@@ -357,10 +358,10 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                     "none" => Overlay::None,
                     "wireframe" => Overlay::Wireframe,
                     "levels" => Overlay::Levels,
+                    "skeleton" => Overlay::Skeleton,
                     other => {
-                        return Err(format!(
-                            "overlay must be \"none\", \"wireframe\" or \"levels\", got {other:?}"
-                        ))
+                        let names = "\"none\", \"wireframe\", \"levels\" or \"skeleton\"";
+                        return Err(format!("overlay must be {names}, got {other:?}"));
                     }
                 })
             }

@@ -79,12 +79,12 @@ test('the continuous LOD slider: every view draws about n triangles, coarser n c
   assert.equal(off.views[0].triangles, off.levels[0].triangles);
 });
 
-test('overlays change every view: wireframe lines and level colours', async () => {
+test('overlays change every view: wireframe lines, level colours and the skeleton', async () => {
   const page = await openPage(browser, {}, SMALL_VIEWPORT);
   const now = 1000;
   const state = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
   const rows = [];
-  for (const overlay of ['wireframe', 'levels']) {
+  for (const overlay of ['wireframe', 'levels', 'skeleton']) {
     const { diffs, pixels } = await viewChanges(page, now, { overlay }, { overlay: 'none' });
     await savePng(`/tmp/clod-overlay-${overlay}.png`, pixels);
     rows.push(`${overlay}: ${diffs.map((d) => d.toFixed(2)).join(', ')}`);

@@ -36,12 +36,12 @@ test('WebGL2 draws what WebGPU draws', async () => {
   });
 });
 
-test('WebGL2 draws the overlays too (wireframe lines, level colours) in every view', async () => {
+test('WebGL2 draws the overlays too (wireframe lines, level colours, skeleton) in every view', async () => {
   const page = await openPage(browser, { backend: 'webgl2' }, SMALL_VIEWPORT);
   const now = 1000;
   const state = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1 });
   assert.equal(state.backend, 'webgl2');
-  for (const overlay of ['wireframe', 'levels']) {
+  for (const overlay of ['wireframe', 'levels', 'skeleton']) {
     const { diffs } = await viewChanges(page, now, { overlay }, { overlay: 'none' });
     console.log(`WebGL2 ${overlay}: mean |ΔRGB| per pixel ${diffs.map((d) => d.toFixed(2)).join(', ')}`);
     diffs.forEach((d, i) => assert.ok(d > 0.1, `${overlay} leaves WebGL2 view ${i} unchanged: ${d}`));

@@ -57,6 +57,11 @@ pub enum BackendChoice {
     WebGl2,
 }
 
+/// Bytes per bone-line vertex: one model-space `vec3<f32>`.
+const BONE_VERTEX_STRIDE: u64 = 12;
+/// Bone-line vertices the buffer holds: two per joint is more than enough, as every bone ends at
+/// a joint and the topmost joint starts none (at most `MAX_JOINTS - 1` bones).
+const BONE_VERTICES: usize = 2 * MAX_JOINTS;
 /// Draw-call slots of the per-draw uniform buffer: 3 views × 2 draws at most.
 const DRAW_SLOTS: u64 = 6;
 /// WebGPU's and WebGL2's minimum uniform offset alignment: the stride of the draw slots.
@@ -88,6 +93,9 @@ type PipelineKey = (PassKind, bool, bool);
 pub struct FrameInput<'a> {
     pub camera: CameraRaw,
     pub skin: &'a [Mat4],
+    /// The skeleton overlay's line list (model space, two points per bone) in the same pose;
+    /// drawn only with [`Overlay::Skeleton`], and only its first [`BONE_VERTICES`] points.
+    pub bones: &'a [[f32; 3]],
     pub views: [(Rect, &'a ViewPlan); 3],
     /// Drawn over every view alike.
     pub overlay: Overlay,
@@ -121,6 +129,8 @@ pub struct Renderer {
     camera_buffer: wgpu::Buffer,
     joints_buffer: wgpu::Buffer,
     draw_buffer: wgpu::Buffer,
+    /// The skeleton overlay's bone lines, rewritten each frame it is shown.
+    bone_buffer: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
     materials: Vec<MaterialGpu>,
@@ -203,6 +213,12 @@ impl Renderer {
         let camera_buffer = uniform_buffer(&device, "camera", std::mem::size_of::<CameraRaw>() as u64);
         let joints_buffer = uniform_buffer(&device, "joints", std::mem::size_of::<JointsRaw>() as u64);
         let draw_buffer = uniform_buffer(&device, "draws", DRAW_SLOTS * DRAW_STRIDE);
+        let bone_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bones"),
+            size: BONE_VERTICES as u64 * BONE_VERTEX_STRIDE,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let layouts = BindLayouts::new(&device);
         let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
@@ -249,6 +265,7 @@ impl Renderer {
             camera_buffer,
             joints_buffer,
             draw_buffer,
+            bone_buffer,
             frame_group,
             draw_group,
             materials,
@@ -341,6 +358,16 @@ impl Renderer {
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
         self.queue.write_buffer(&self.joints_buffer, 0, bytemuck::bytes_of(&joints));
+        let bones = if frame.overlay == Overlay::Skeleton {
+            // Whole segments only (an even count), at most what the buffer holds.
+            let points = &frame.bones[..frame.bones.len().min(BONE_VERTICES) & !1];
+            if !points.is_empty() {
+                self.queue.write_buffer(&self.bone_buffer, 0, bytemuck::cast_slice(points));
+            }
+            points.len() as u32
+        } else {
+            0
+        };
         let target_view = target.create_view(&Default::default());
         let (fw, fh) = (target.width(), target.height());
         let visible = |r: &Rect| r.width > 0 && r.height > 0 && r.x + r.width <= fw && r.y + r.height <= fh;
@@ -371,6 +398,7 @@ impl Renderer {
                     let mut pass =
                         begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
                     self.draw_view(&mut pass, plan, frame.overlay, [0.0; 2], &mut slot);
+                    self.draw_bones(&mut pass, bones);
                 }
                 encoder.copy_texture_to_texture(
                     targets.textures[i].as_image_copy(),
@@ -409,6 +437,7 @@ impl Renderer {
                 );
                 pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
                 self.draw_view(&mut pass, plan, frame.overlay, [rect.x as f32, rect.y as f32], &mut slot);
+                self.draw_bones(&mut pass, bones);
             }
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
@@ -464,6 +493,17 @@ impl Renderer {
                 pass.draw_indexed(0..level.edge_count, 0, 0..1);
             }
         }
+    }
+
+    /// Records the skeleton overlay's `points` bone-line vertices (0: nothing) over a view.
+    fn draw_bones(&self, pass: &mut wgpu::RenderPass, points: u32) {
+        if points == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.pipelines.bone);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.bone_buffer.slice(..u64::from(points) * BONE_VERTEX_STRIDE));
+        pass.draw(0..points, 0..1);
     }
 }
 

@@ -1,5 +1,6 @@
 //! Bind group layouts, vertex layouts and the render pipelines of `skin.wgsl`: one per pass kind,
-//! vertex shader (level or geomorph) and culling mode, and the wireframe overlay's line pipelines.
+//! vertex shader (level or geomorph) and culling mode, the wireframe overlay's line pipelines and
+//! the skeleton overlay's.
 
 use super::*;
 
@@ -80,10 +81,12 @@ struct Spec {
     depth_compare: wgpu::CompareFunction,
 }
 
-/// The shaded pipelines by [`PipelineKey`], and the wireframe ones (level, geomorph).
+/// The shaded pipelines by [`PipelineKey`], the wireframe ones (level, geomorph), and the
+/// skeleton overlay's bone lines.
 pub(super) struct Pipelines {
     pub(super) shaded: HashMap<PipelineKey, wgpu::RenderPipeline>,
     pub(super) wire: [wgpu::RenderPipeline; 2],
+    pub(super) bone: wgpu::RenderPipeline,
 }
 
 pub(super) fn create_pipelines(
@@ -191,5 +194,65 @@ pub(super) fn create_pipelines(
             depth_compare: wgpu::CompareFunction::LessEqual,
         })
     });
-    Pipelines { shaded, wire }
+    let bone = bone_pipeline(device, layouts, &module, color_format, sample_count);
+    Pipelines { shaded, wire, bone }
+}
+
+/// Bone lines (`vs_bone`, `fs_bone`): a line list of model-space points, `BONE_VERTEX_STRIDE`
+/// bytes each, over everything drawn before. The depth test always passes and writes nothing, so
+/// bones show through the body and leave the view's depth as the mesh made it. Its layout binds
+/// the frame group only (the camera), so it draws in views whose plan drew nothing.
+fn bone_pipeline(
+    device: &wgpu::Device,
+    layouts: &BindLayouts,
+    module: &wgpu::ShaderModule,
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+) -> wgpu::RenderPipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("bone"),
+        bind_group_layouts: &[Some(&layouts.frame)],
+        immediate_size: 0,
+    });
+    let attributes =
+        [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("vs_bone fs_bone"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_bone"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: BONE_VERTEX_STRIDE,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &attributes,
+            })],
+        },
+        primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::LineList, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: sample_count,
+            mask: !0,
+            alpha_to_coverage_enabled: false,
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_bone"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: color_format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
