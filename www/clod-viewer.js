@@ -159,6 +159,7 @@ export class ClodViewerElement extends HTMLElement {
   #observers = [];
   #pointers = new Map();
   #lastState = null;
+  #loadId = 0;
 
   connectedCallback() {
     if (!this.#canvas) this.#buildDom();
@@ -300,6 +301,9 @@ export class ClodViewerElement extends HTMLElement {
   // Fetches and builds the current source (once); the GPU part waits for visibility.
   #prepare(replace = false) {
     if (this.#pending) return this.#pending;
+    // A newer load supersedes this one: its progress stops counting and its viewer is dropped.
+    const id = ++this.#loadId;
+    const report = (phase, fraction) => { if (this.#loadId === id) this.#reportProgress(phase, fraction); };
     this.#progress = 0;
     this.#bar.hidden = false;
     this.#bar.value = 0;
@@ -307,21 +311,21 @@ export class ClodViewerElement extends HTMLElement {
     const visible = new Promise((resolve) => { showGpu = resolve; });
     const pending = (async () => {
       const { module, url, backend, fallbacks } = await this.#chooseBuild();
-      this.#source ??= await this.#fetchSource(this.getAttribute('src') || DEFAULT_SRC);
+      this.#source ??= await this.#fetchSource(this.getAttribute('src') || DEFAULT_SRC, report);
       const source = this.#source;
-      this.#reportProgress('fetch', 1);
-      const built = await buildOffMainThread(url, source, (f) => this.#reportProgress('build', f));
-      this.#reportProgress('build', 1);
+      report('fetch', 1);
+      const built = await buildOffMainThread(url, source, (f) => report('build', f));
+      report('build', 1);
       await visible;
       try {
-        return await this.#createViewer(module, backend, source, built);
+        return await this.#createViewer(module, backend, source, built, id);
       } catch (e) {
         // WebGPU has an adapter but no usable device (or the surface fails): the WebGL2 build.
         // The LOD bytes are the same whichever build made them.
         if (!fallbacks.length || !e.gpu) throw e;
         const fallback = await loadBuild(fallbacks[0]);
         try {
-          return await this.#createViewer(fallback.module, fallbacks[0], source, built);
+          return await this.#createViewer(fallback.module, fallbacks[0], source, built, id);
         } catch (e2) {
           throw new Error(`Neither WebGPU nor WebGL2 works here (${e.message}; ${e2.message})`);
         }
@@ -338,6 +342,7 @@ export class ClodViewerElement extends HTMLElement {
       return state;
     }, (e) => {
       if (this.#pending === pending) this.#pending = null;
+      if (this.#loadId !== id) throw Object.assign(e instanceof Error ? e : new Error(String(e)), { superseded: true }); // the newer load reports
       this.#bar.hidden = true;
       this.#fail(e);
       throw e;
@@ -367,7 +372,7 @@ export class ClodViewerElement extends HTMLElement {
     throw new Error(`could not load the viewer's wasm (${failures.join('; ')})`);
   }
 
-  async #fetchSource(src) {
+  async #fetchSource(src, report) {
     const url = new URL(src, document.baseURI);
     const response = await fetch(url);
     if (!response.ok) throw new Error(`${url.pathname.split('/').pop()}: HTTP ${response.status}`);
@@ -380,7 +385,7 @@ export class ClodViewerElement extends HTMLElement {
       if (done) break;
       chunks.push(value);
       received += value.length;
-      if (total) this.#reportProgress('fetch', received / total);
+      if (total) report('fetch', received / total);
     }
     const bytes = new Uint8Array(received);
     let at = 0;
@@ -390,7 +395,7 @@ export class ClodViewerElement extends HTMLElement {
 
   // Creates the viewer on a fresh canvas and swaps it in only when it works, so a model that
   // fails leaves the previous one playing.
-  async #createViewer(module, backend, source, built) {
+  async #createViewer(module, backend, source, built, id) {
     const canvas = this.#canvas.cloneNode();
     delete canvas.dataset.wired;
     const [w, h] = this.#pixelSize();
@@ -398,13 +403,17 @@ export class ClodViewerElement extends HTMLElement {
     canvas.height = h;
     const options = { backend, resolve: resolverFor(source.resources) };
     if (built) { options.clod = built.clod; options.buildMs = built.buildMs; }
-    this.#reportProgress('gpu', 0);
+    if (this.#loadId === id) this.#reportProgress('gpu', 0);
     let viewer;
     try {
       viewer = await module.Viewer.create(canvas, source.bytes, options);
     } catch (e) {
       // The file was imported and built in the worker already: what fails here is the GPU.
       throw Object.assign(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), { gpu: Boolean(built) });
+    }
+    if (this.#loadId !== id) {
+      viewer.free();
+      throw Object.assign(new Error(`${source.name}: superseded by a newer load`), { superseded: true });
     }
     this.#reportProgress('gpu', 0.5);
     try {
@@ -422,7 +431,7 @@ export class ClodViewerElement extends HTMLElement {
     this.#wireInput();
     viewer.frame(performance.now());
     await viewer.finish();
-    this.#pending = null;
+    if (this.#loadId === id) this.#pending = null;
     const state = this.#updateLabels();
     state.name = source.name;
     return state;

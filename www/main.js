@@ -188,7 +188,7 @@ async function openFiles(files) {
     params.delete('model');
     writeUrl();
   } catch (e) {
-    showFailure(e.message ?? String(e));
+    if (!e.superseded) showFailure(e.message ?? String(e)); // a newer file is on its way
   }
 }
 

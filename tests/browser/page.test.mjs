@@ -239,3 +239,22 @@ test('touch: one finger orbits, two fingers pinch to zoom and pan', async () => 
   assert.ok(zoomed.distance < 0.8 * orbited.distance, `distance ${orbited.distance} → ${zoomed.distance}`);
   assert.notDeepEqual(zoomed.pan, orbited.pan, 'the pinch midpoint moved, so the view pans');
 });
+
+test('a file opened while another is still building wins, and only its events count', async () => {
+  const [first, second] = [model('CesiumMan.glb'), model('Fox.glb')];
+  if (!first || !second) return;
+  const page = await openPage(browser);
+  await page.evaluate(() => {
+    window.__events = [];
+    const viewer = document.getElementById('viewer');
+    for (const type of ['load', 'error']) viewer.addEventListener(type, (e) => window.__events.push({ type, triangles: e.detail.triangles, message: e.detail.message }));
+  });
+  await page.setInputFiles('#file', { name: 'CesiumMan.glb', mimeType: 'model/gltf-binary', buffer: first });
+  await page.setInputFiles('#file', { name: 'Fox.glb', mimeType: 'model/gltf-binary', buffer: second });
+  await page.waitForFunction(() => window.__events.length > 0, null, { timeout: 120_000 });
+  await page.waitForTimeout(3000); // the superseded build finishes meanwhile and must stay silent
+  const events = await page.evaluate(() => window.__events);
+  assert.deepEqual(events, [{ type: 'load', triangles: 576, message: undefined }]);
+  assert.equal((await frame(page, 1000)).triangles, 576);
+  assert.equal(await page.locator('[role=alert]').isHidden(), true, 'the superseded file is not reported as a failure');
+});
