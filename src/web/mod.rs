@@ -250,14 +250,7 @@ impl Viewer {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
             let guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
-            let views = guard.frame_views();
-            let input = FrameInput {
-                camera: guard.camera_raw,
-                skin: &guard.skin,
-                bones: &guard.bones,
-                views,
-                overlay: guard.settings.overlay,
-            };
+            let input = guard.frame_input();
             let pixels =
                 guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
             let out = js_sys::Object::new();
@@ -334,19 +327,19 @@ impl Inner {
         self.bones = bone_segments(skeleton, &model_from_node);
     }
 
-    fn frame_views(&self) -> [(crate::render::layout::Rect, &ViewPlan); 3] {
-        [0, 1, 2].map(|i| (self.layout.views[i], &self.plans[i]))
-    }
-
-    fn draw(&mut self) {
-        let views = self.frame_views();
-        let input = FrameInput {
+    /// What the renderer draws this frame: camera, skin and bone matrices, each view's plan.
+    fn frame_input(&self) -> FrameInput<'_> {
+        FrameInput {
             camera: self.camera_raw,
             skin: &self.skin,
             bones: &self.bones,
-            views,
+            views: [0, 1, 2].map(|i| (self.layout.views[i], &self.plans[i])),
             overlay: self.settings.overlay,
-        };
+        }
+    }
+
+    fn draw(&mut self) {
+        let input = self.frame_input();
         self.renderer.render(&input);
         self.frames += 1;
     }

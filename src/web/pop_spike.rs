@@ -14,7 +14,6 @@ use wasm_bindgen::prelude::*;
 
 use super::{json_str, num, settings, Inner, Viewer};
 use crate::render::camera::FOVY;
-use crate::render::gpu::FrameInput;
 use crate::render::pop_spike::SpikeMeter;
 use crate::render::schedule::{self, Schedule, TransitionMode};
 use settings::DistanceMode;
@@ -179,13 +178,7 @@ impl Inner {
             self.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
             self.advance(start_ms + (i + 1) as f64 * FRAME_SECONDS * 1000.0);
             selected.push(self.schedule.selected);
-            let input = FrameInput {
-                camera: self.camera_raw,
-                skin: &self.skin,
-                bones: &self.bones,
-                views: self.frame_views(),
-                overlay: self.settings.overlay,
-            };
+            let input = self.frame_input();
             let pixels = self.renderer.read_pixels(&input).await.map_err(|e| e.to_string())?;
             meter.push(pixels.rgba, pixels.width, self.layout.views);
         }

@@ -136,18 +136,8 @@ pub(super) fn create_pipelines(
                 cull_mode: spec.cull.then_some(wgpu::Face::Back),
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(spec.depth_write),
-                depth_compare: Some(spec.depth_compare),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: sample_count,
-                mask: !0,
-                alpha_to_coverage_enabled: false,
-            },
+            depth_stencil: Some(depth_state(spec.depth_write, spec.depth_compare)),
+            multisample: multisample_state(sample_count),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some(fragment),
@@ -230,18 +220,8 @@ fn bone_pipeline(
             })],
         },
         primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::LineList, ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Always),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: wgpu::MultisampleState {
-            count: sample_count,
-            mask: !0,
-            alpha_to_coverage_enabled: false,
-        },
+        depth_stencil: Some(depth_state(false, wgpu::CompareFunction::Always)),
+        multisample: multisample_state(sample_count),
         fragment: Some(wgpu::FragmentState {
             module,
             entry_point: Some("fs_bone"),
@@ -255,4 +235,20 @@ fn bone_pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// The depth test every pipeline uses, with its own write flag and comparison.
+fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
+/// Multisampling of every pipeline: all samples, no alpha-to-coverage.
+fn multisample_state(count: u32) -> wgpu::MultisampleState {
+    wgpu::MultisampleState { count, mask: !0, alpha_to_coverage_enabled: false }
 }
