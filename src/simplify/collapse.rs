@@ -80,6 +80,10 @@ fn stamp(version_u: u32, version_v: u32) -> u32 {
 
 struct Engine<'a> {
     weights: &'a [f32],
+    /// `1 / weight` per attribute channel, 0 for a disabled channel.
+    inverse_weights: Vec<f64>,
+    /// Wedge sums of nothing: the partner of a wedge that merges with none.
+    zero_sums: Vec<f64>,
     materials: &'a [u32],
     mode: CollapseMode,
     channels: usize,
@@ -165,6 +169,12 @@ impl<'a> Engine<'a> {
         };
         Engine {
             weights: input.attribute_weights,
+            inverse_weights: input
+                .attribute_weights
+                .iter()
+                .map(|&w| if w > 0.0 { 1.0 / w as f64 } else { 0.0 })
+                .collect(),
+            zero_sums: vec![0.0; 1 + 4 * m],
             materials: input.triangle_materials,
             mode: options.mode,
             channels: m,
@@ -297,8 +307,10 @@ impl<'a> Engine<'a> {
             }
             // Stale entries pile up (several per collapse). Dropping them in one linear pass
             // costs a few ns each, popping them one by one a cache-missing sift each: purge
-            // whenever the queue has doubled since the last purge (amortised O(1) per push).
-            if self.queue.len() > 2 * self.purged_length.max(2048) {
+            // whenever the queue has grown by a quarter since the last purge (amortised O(1) per
+            // push). Measured on the built-in character (cachegrind), growth of 2× left 9 of 10
+            // pops stale; a quarter leaves 1 in 2 and saves more sifting than the purges cost.
+            if self.queue.len() > self.purged_length.max(2048) * 5 / 4 {
                 let (alive, version) = (&self.alive, &self.version);
                 self.queue.purge(|c| {
                     let (u, v) = (c.u() as usize, c.v as usize);
@@ -430,31 +442,40 @@ impl<'a> Engine<'a> {
         let mut total = self.total[ui];
         total += &self.total[vi];
         let stride = 1 + 4 * self.channels;
+        let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
         for (iv, &wv) in v_wedges.iter().enumerate() {
             let partner = self.v_partner[iv];
             let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
             let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
-            // Sums of the merged wedge pair (or of the lone wedge), as one slice each.
-            let of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
-            let sv = of(wv);
-            let su = if wu == NONE { None } else { Some(of(wu)) };
-            let pair = |k: usize| sv[k] + su.map_or(0.0, |su| su[k]);
-            let alpha = pair(0);
-            for (j, &w) in self.weights.iter().enumerate() {
-                if w <= 0.0 {
+            // Per channel `(Σ area·w·g, Σ area·w·d)` of the merged pair (or the lone wedge), and
+            // the pair's area `α`.
+            let sv = sums_of(wv);
+            let su = if wu == NONE { &self.zero_sums[..] } else { sums_of(wu) };
+            let alpha = sv[0] + su[0];
+            let channels = sv[1..]
+                .chunks_exact(4)
+                .zip(su[1..].chunks_exact(4))
+                .map(|(v, u)| (DVec3::new(v[0] + u[0], v[1] + u[1], v[2] + u[2]), v[3] + u[3]));
+            if optimal {
+                if !(alpha > 0.0) {
                     continue;
                 }
-                let k = 1 + 4 * j;
-                let g = DVec3::new(pair(k), pair(k + 1), pair(k + 2));
-                let d = pair(k + 3);
-                let aw = alpha * w as f64;
-                if optimal {
-                    total.subtract_optimal_attribute(g, d, aw);
-                } else {
-                    let s = self.wedge_attributes[wv as usize * self.channels + j] as f64;
-                    total.add_fixed_attribute(g, d, aw, s);
+                // One division per wedge: 1 / (α w_j) = (1 / α) · (1 / w_j).
+                let inverse_alpha = 1.0 / alpha;
+                let mut optimum = Quadric::ZERO;
+                for ((g, d), &inverse_weight) in channels.zip(&self.inverse_weights) {
+                    optimum.add_optimal_attribute(g, d, inverse_alpha * inverse_weight);
+                }
+                total.subtract(&optimum);
+            } else {
+                let own =
+                    &self.wedge_attributes[wv as usize * self.channels..(wv as usize + 1) * self.channels];
+                for ((g, d), (&w, &s)) in channels.zip(self.weights.iter().zip(own)) {
+                    if w > 0.0 {
+                        total.add_fixed_attribute(g, d, alpha * w as f64, s as f64);
+                    }
                 }
             }
         }

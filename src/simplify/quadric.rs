@@ -12,7 +12,7 @@
 //! the `A`, `b`, `c` parts are plain quadric terms and are summed into a 3×3 [`Quadric`]; only the
 //! cross terms `Σ area·w·g`, `Σ area·w·d` and `Σ area` are kept per wedge (4 numbers per channel
 //! instead of a (3+m)² matrix). Minimising over `s` in closed form leaves a 3×3 system in `p`
-//! (the Schur complement), see [`Quadric::subtract_optimal_attribute`].
+//! (the Schur complement), see [`Quadric::add_optimal_attribute`].
 //!
 //! Everything is f64: quadric coefficients cancel catastrophically in f32 when a mesh lies far
 //! from the origin (c ≈ |b|² / |A|), and the solve needs the headroom.
@@ -171,28 +171,44 @@ impl Quadric {
         }
     }
 
-    /// Removes one attribute channel's best achievable error: turns `Q(p) + error(p, s)` into
-    /// `min_s [Q(p) + error(p, s)]` for the channel sums `gradient = Σ area·w·g`,
-    /// `offset = Σ area·w·d` and `alpha_w = Σ area·w` (Hoppe 1999, eq. for the optimal `s`).
+    /// Adds one attribute channel's best achievable error reduction, to be subtracted (see
+    /// [`Quadric::subtract`]) from a quadric that holds the channel's error: that turns
+    /// `Q(p) + error(p, s)` into `min_s [Q(p) + error(p, s)]` for the channel sums
+    /// `gradient = Σ area·w·g`, `offset = Σ area·w·d` and `inverse_alpha_w = 1 / Σ area·w`
+    /// (Hoppe 1999, eq. for the optimal `s`). Summing the reductions of all channels first keeps
+    /// the sums in registers; callers pass the inverse because many channels share one area sum.
     ///
-    /// The attribute error itself, `Σ area·w·(g·p+d)²`, must already be in `self` (it is summed
-    /// into the per-vertex quadric). Does nothing when `alpha_w` is not positive.
-    pub fn subtract_optimal_attribute(&mut self, gradient: DVec3, offset: f64, alpha_w: f64) {
-        if !(alpha_w > 0.0) {
+    /// The attribute error itself, `Σ area·w·(g·p+d)²`, must already be in the quadric it is
+    /// subtracted from (it is summed into the per-vertex quadric). Does nothing when
+    /// `inverse_alpha_w` is not positive.
+    pub fn add_optimal_attribute(&mut self, gradient: DVec3, offset: f64, inverse_alpha_w: f64) {
+        if !(inverse_alpha_w > 0.0) {
             return;
         }
-        let k = 1.0 / alpha_w;
+        let k = inverse_alpha_w;
         let g = gradient;
-        self.a[0] -= k * g.x * g.x;
-        self.a[1] -= k * g.x * g.y;
-        self.a[2] -= k * g.x * g.z;
-        self.a[3] -= k * g.y * g.y;
-        self.a[4] -= k * g.y * g.z;
-        self.a[5] -= k * g.z * g.z;
-        self.b[0] -= k * offset * g.x;
-        self.b[1] -= k * offset * g.y;
-        self.b[2] -= k * offset * g.z;
-        self.c -= k * offset * offset;
+        let (kgx, kgy, kgz) = (k * g.x, k * g.y, k * g.z);
+        self.a[0] += kgx * g.x;
+        self.a[1] += kgx * g.y;
+        self.a[2] += kgx * g.z;
+        self.a[3] += kgy * g.y;
+        self.a[4] += kgy * g.z;
+        self.a[5] += kgz * g.z;
+        self.b[0] += kgx * offset;
+        self.b[1] += kgy * offset;
+        self.b[2] += kgz * offset;
+        self.c += k * offset * offset;
+    }
+
+    /// Subtracts the planes of `other` (not its weight: a reduction has none).
+    pub fn subtract(&mut self, other: &Quadric) {
+        for k in 0..6 {
+            self.a[k] -= other.a[k];
+        }
+        for k in 0..3 {
+            self.b[k] -= other.b[k];
+        }
+        self.c -= other.c;
     }
 
     /// Adds the cross terms of one attribute channel held at the fixed value `s`:
@@ -316,8 +332,10 @@ mod tests {
         let s_best = (g_sum.dot(p) + d_sum) / alpha;
         let mut fixed = q;
         fixed.add_fixed_attribute(g_sum, d_sum, alpha, s_best);
+        let mut reduction = Quadric::ZERO;
+        reduction.add_optimal_attribute(g_sum, d_sum, 1.0 / alpha);
         let mut reduced = q;
-        reduced.subtract_optimal_attribute(g_sum, d_sum, alpha);
+        reduced.subtract(&reduction);
         assert!((fixed.error(p) - reduced.error(p)).abs() < 1e-12);
         let mut worse = q;
         worse.add_fixed_attribute(g_sum, d_sum, alpha, s_best + 0.1);

@@ -98,6 +98,9 @@ pub(super) fn attribute_quadrics(
         for corner in corners {
             wedge_sums[indices[corner] as usize * stride] += frame.area;
         }
+        // Σ over channels of aw · (g·p + d)², the attribute errors' pure-position part: summed
+        // per face first, then added to each corner's class once.
+        let mut face = Quadric::ZERO;
         for (j, &w) in input.attribute_weights.iter().enumerate() {
             if w <= 0.0 {
                 continue;
@@ -105,18 +108,18 @@ pub(super) fn attribute_quadrics(
             let s = corners.map(|k| input.attributes[indices[k] as usize * m + j] as f64);
             let (g, d) = frame.gradient(s[0], s[1], s[2]);
             let aw = frame.area * w as f64;
-            // aw · (g·p + d)²: the attribute error's pure-position part.
-            let mut q = Quadric::from_plane(g, d, aw);
-            q.weight = 0.0;
+            face += &Quadric::from_plane(g, d, aw);
             for corner in corners {
-                let wedge = indices[corner] as usize;
-                appearance[classes.class_of[wedge] as usize] += &q;
-                let base = wedge * stride + 1 + 4 * j;
+                let base = indices[corner] as usize * stride + 1 + 4 * j;
                 wedge_sums[base] += aw * g.x;
                 wedge_sums[base + 1] += aw * g.y;
                 wedge_sums[base + 2] += aw * g.z;
                 wedge_sums[base + 3] += aw * d;
             }
+        }
+        face.weight = 0.0;
+        for corner in corners {
+            appearance[classes.class_of[indices[corner] as usize] as usize] += &face;
         }
     }
     (appearance, wedge_sums)
