@@ -1,7 +1,7 @@
 // Benchmark: our articulated progressive mesh against meshoptimizer's wasm simplifier, in one node process.
 //
 //   wasm-pack build --release --target nodejs --out-dir target/pkg-node -- --features js && npm ci
-//   node bench/lod-vs-meshoptimizer.mjs [--samples N] [--frames N]
+//   node bench/lod-vs-meshoptimizer.mjs [--samples N] [--frames N] [--build-only]
 //
 // For each model in ../shared/models and the built-in character it prints, as ratios measured in this run:
 //  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
@@ -18,7 +18,9 @@ import { fileURLToPath } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api, modelBytes } from '../tests/js/models.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).map((a, i, all) => a.startsWith('--') ? [a.slice(2), all[i + 1]] : null).filter(Boolean));
+// --build-only prints the build times (1 and 4) and skips the error measurements.
+const BUILD_ONLY = process.argv.includes('--build-only');
+const args = Object.fromEntries(process.argv.slice(2).filter((a) => a !== '--build-only').map((a, i, all) => a.startsWith('--') ? [a.slice(2), all[i + 1]] : null).filter(Boolean));
 const SAMPLES = Number(args.samples ?? 20000);
 const FRAMES = Number(args.frames ?? 6);
 const SEED = 12345;
@@ -99,6 +101,12 @@ for (const [name, bytes, path] of list) {
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
   const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
+  if (BUILD_ONLY) {
+    console.log(`${name}: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms: ` +
+      `ratio ${(oursMs / meshoptChainMs).toFixed(2)}; ours native ${native[path].toFixed(1)} ms`);
+    character.free();
+    continue;
+  }
   const clod = character.buildClod({ levels: counts, pose: 'bind' });
 
   console.log(`\n## ${name}: ${full} triangles, ${character.vertexCount} vertices, ${character.jointCount} joints`);
