@@ -89,7 +89,8 @@ fn parse_pose(name: &str) -> Option<SimplificationPose> {
 }
 
 fn build(character: &Character, pose: &SimplificationPose, levels: &[usize]) -> Clod {
-    let options = ClodOptions { pose: pose.clone(), level_triangles: Some(levels.to_vec()), ..ClodOptions::default() };
+    let options =
+        ClodOptions { pose: pose.clone(), level_triangles: Some(levels.to_vec()), ..ClodOptions::default() };
     clod::build(character, &options, &mut |_| {}).unwrap_or_else(|e| fail(&format!("build: {e}")))
 }
 
@@ -105,7 +106,11 @@ fn report(
     let diag = bounds_diagonal(&mesh.positions);
     let pct = |d: f64| 100.0 * d / diag as f64;
     let counts: Vec<usize> = FRACTIONS.iter().map(|f| ((full as f64 * f).round() as usize).max(1)).collect();
-    println!("\n## {file}: {full} triangles, {} vertices, {} clips", mesh.vertex_count(), character.clips.len());
+    println!(
+        "\n## {file}: {full} triangles, {} vertices, {} clips",
+        mesh.vertex_count(),
+        character.clips.len()
+    );
 
     // 1. Bind-pose geometric error of the bind-pose build.
     let bind = build(character, &SimplificationPose::Bind, &counts);
@@ -116,8 +121,9 @@ fn report(
         cursor.set_triangle_count(count);
         let positions: Vec<Vec3> =
             cursor.vertices().iter().map(|&v| bind.apm.bind_positions[v as usize]).collect();
-        let d = surface_distance((&mesh.positions, &mesh.indices), (&positions, cursor.indices()), SAMPLES, SEED)
-            .expect("both meshes have area");
+        let d =
+            surface_distance((&mesh.positions, &mesh.indices), (&positions, cursor.indices()), SAMPLES, SEED)
+                .expect("both meshes have area");
         println!(
             "| {}% | {} | {:.3} | {:.3} |",
             fraction * 100.0,
@@ -173,8 +179,13 @@ fn report(
         for (clip, _, skin, full_posed) in &frames {
             for (i, level) in built.levels.iter().enumerate() {
                 let posed = built.level_skinned_positions(i, skin);
-                let d = surface_distance((full_posed, &mesh.indices), (&posed, &level.indices), ANIMATED_SAMPLES, SEED)
-                    .expect("both meshes have area");
+                let d = surface_distance(
+                    (full_posed, &mesh.indices),
+                    (&posed, &level.indices),
+                    ANIMATED_SAMPLES,
+                    SEED,
+                )
+                .expect("both meshes have area");
                 sum += d.mean as f64;
                 per_level[i] += d.mean as f64;
                 per_clip[*clip] += d.mean as f64;
@@ -212,14 +223,20 @@ fn report(
             let built = build(character, &pose, &common);
             for (i, level) in built.levels.iter().enumerate() {
                 let posed = built.level_skinned_positions(i, skin);
-                let d = surface_distance((full_posed, &mesh.indices), (&posed, &level.indices), ANIMATED_SAMPLES, SEED)
-                    .expect("both meshes have area");
+                let d = surface_distance(
+                    (full_posed, &mesh.indices),
+                    (&posed, &level.indices),
+                    ANIMATED_SAMPLES,
+                    SEED,
+                )
+                .expect("both meshes have area");
                 sum += d.mean as f64;
                 per_level[i.min(levels - 1)] += d.mean as f64;
             }
         }
         let mean = sum / (frames.len() * levels) as f64;
-        let versus = bind_mean.map_or(String::new(), |b| format!(" ({:.1} % lower than bind)", (1.0 - mean / b) * 100.0));
+        let versus = bind_mean
+            .map_or(String::new(), |b| format!(" ({:.1} % lower than bind)", (1.0 - mean / b) * 100.0));
         println!("  {:<10} {:.3}{versus}", "oracle", pct(mean));
         if detail {
             let by_level: Vec<String> =

@@ -239,6 +239,12 @@ fn multi_pose_quadrics(
     let p0_inverse: Option<Vec<Mat4>> = p0_matrices.map(|m| m.iter().map(Mat4::inverse).collect());
     let mesh = &character.mesh;
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
+    // Triangles that only move rigidly with the bind pose add their bind plane once, not per frame.
+    let rigid = match p0_inverse {
+        None => poses::rigid_triangles(&mesh.joints, &mesh.weights, &mesh.indices, &frames),
+        Some(_) => Vec::new(),
+    };
+    poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, &mesh.indices, &rigid);
     let weight = 1.0 / frames.len() as f64;
     for skin in &frames {
         let matrices = poses::vertex_matrices(character, skin);
@@ -249,6 +255,7 @@ fn multi_pose_quadrics(
             p0_inverse.as_deref(),
             &matrices,
             weight,
+            &rigid,
         );
     }
     Some(quadrics)
