@@ -1,0 +1,230 @@
+//! Native reproduction of bench/lod-vs-meshoptimizer.mjs's quality numbers, minutes faster than the
+//! node bench: `cargo run --release --example animated_error -- [--detail] FILE.glb...`.
+//!
+//! For every file it prints
+//! 1. the bind-pose geometric error of a bind-pose build at 50/25/10/5/1 % of the triangles (the
+//!    continuous level with at most that many triangles, as the bench's `meshAt`): symmetric sampled
+//!    mean and Hausdorff distance to the input, % of the bind-pose bounding-box diagonal, 20,000
+//!    samples, seed 12345. The bench compares these with meshoptimizer at the same triangle count;
+//!    when meshoptimizer reaches the target and we do too, the counts are the bench's;
+//! 2. the animated error of bind, default (multi-pose) and mid-clip builds: each build's levels at
+//!    the common triangle counts (for each target, the largest count any of the three reached),
+//!    skinned at `t = duration · (f + 0.5) / 6` of every clip and compared with the full mesh skinned
+//!    at the same frame (5,000 samples, seed 12345); the mean over clips × frames × levels of the
+//!    sampled mean distance, and the largest Hausdorff distance. These are the bench's numbers.
+//!
+//! `--detail` adds the animated error per level and per clip. `--oracle` adds a lower bound for any
+//! single simplification pose: for every measured frame, a build simplified in exactly that frame
+//! (at the same triangle counts), measured in that frame only. `--pose NAME` (repeatable) replaces
+//! the three poses: `bind`, `multi`, `mid-clip`, `multi:N` (N frames per clip), or `CLIP@SECONDS`.
+
+use clod_viewer::character::Character;
+use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
+use clod_viewer::import;
+use clod_viewer::metrics::{bounds_diagonal, surface_distance};
+use glam::Vec3;
+
+const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
+/// The bench's sample count for the bind-pose table (`SAMPLES`) and for animated error (`SAMPLES / 4`).
+const SAMPLES: usize = 20_000;
+const ANIMATED_SAMPLES: usize = SAMPLES / 4;
+const SEED: u64 = 12345;
+/// Frames per clip the animated error is measured at (the bench's `--frames` default).
+const FRAMES: usize = 6;
+
+fn main() {
+    let mut detail = false;
+    let mut oracle = false;
+    let mut poses: Vec<(String, SimplificationPose)> = Vec::new();
+    let mut files = Vec::new();
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--detail" => detail = true,
+            "--oracle" => oracle = true,
+            "--pose" => {
+                let name = args.next().unwrap_or_default();
+                match parse_pose(&name) {
+                    Some(pose) => poses.push((name, pose)),
+                    None => fail(&format!("unknown pose {name:?}")),
+                }
+            }
+            _ => files.push(arg),
+        }
+    }
+    if files.is_empty() {
+        fail("usage: animated_error [--detail] [--pose NAME]... FILE.glb...");
+    }
+    if poses.is_empty() {
+        poses = ["bind", "multi", "mid-clip"].map(|p| (p.to_string(), parse_pose(p).unwrap())).to_vec();
+    }
+    for file in files {
+        let character = std::fs::read(&file)
+            .map_err(|e| e.to_string())
+            .and_then(|b| import::from_glb(&b).map_err(|e| e.to_string()))
+            .unwrap_or_else(|e| fail(&format!("{file}: {e}")));
+        report(&file, &character, &poses, detail, oracle);
+    }
+}
+
+fn fail(message: &str) -> ! {
+    eprintln!("{message}");
+    std::process::exit(2);
+}
+
+fn parse_pose(name: &str) -> Option<SimplificationPose> {
+    Some(match name {
+        "bind" => SimplificationPose::Bind,
+        "multi" => ClodOptions::default().pose,
+        "mid-clip" => SimplificationPose::MidClip,
+        _ => {
+            if let Some(n) = name.strip_prefix("multi:") {
+                SimplificationPose::MultiPose { frames_per_clip: n.parse().ok()? }
+            } else {
+                let (clip, time) = name.split_once('@')?;
+                SimplificationPose::ClipFrame { clip: clip.to_string(), time: time.parse().ok()? }
+            }
+        }
+    })
+}
+
+fn build(character: &Character, pose: &SimplificationPose, levels: &[usize]) -> Clod {
+    let options = ClodOptions { pose: pose.clone(), level_triangles: Some(levels.to_vec()), ..ClodOptions::default() };
+    clod::build(character, &options, &mut |_| {}).unwrap_or_else(|e| fail(&format!("build: {e}")))
+}
+
+fn report(
+    file: &str,
+    character: &Character,
+    poses: &[(String, SimplificationPose)],
+    detail: bool,
+    oracle: bool,
+) {
+    let mesh = &character.mesh;
+    let full = mesh.triangle_count();
+    let diag = bounds_diagonal(&mesh.positions);
+    let pct = |d: f64| 100.0 * d / diag as f64;
+    let counts: Vec<usize> = FRACTIONS.iter().map(|f| ((full as f64 * f).round() as usize).max(1)).collect();
+    println!("\n## {file}: {full} triangles, {} vertices, {} clips", mesh.vertex_count(), character.clips.len());
+
+    // 1. Bind-pose geometric error of the bind-pose build.
+    let bind = build(character, &SimplificationPose::Bind, &counts);
+    println!("| target | triangles | mean % | hausdorff % |");
+    println!("|---|---|---|---|");
+    let mut cursor = bind.apm.pm.cursor();
+    for (fraction, &count) in FRACTIONS.iter().zip(&counts) {
+        cursor.set_triangle_count(count);
+        let positions: Vec<Vec3> =
+            cursor.vertices().iter().map(|&v| bind.apm.bind_positions[v as usize]).collect();
+        let d = surface_distance((&mesh.positions, &mesh.indices), (&positions, cursor.indices()), SAMPLES, SEED)
+            .expect("both meshes have area");
+        println!(
+            "| {}% | {} | {:.3} | {:.3} |",
+            fraction * 100.0,
+            cursor.indices().len() / 3,
+            pct(d.mean as f64),
+            pct(d.hausdorff as f64)
+        );
+    }
+
+    // 2. Animated error at common triangle counts.
+    if character.clips.is_empty() {
+        println!("no clips: no animated error");
+        return;
+    }
+    let reached: Vec<Vec<usize>> = poses
+        .iter()
+        .map(|(_, pose)| {
+            let built = build(character, pose, &counts);
+            let got: Vec<usize> = built.levels.iter().map(|l| l.triangle_count()).collect();
+            (0..counts.len()).map(|i| got[i.min(got.len() - 1)]).collect()
+        })
+        .collect();
+    let mut common: Vec<usize> =
+        (0..counts.len()).map(|i| reached.iter().map(|r| r[i]).max().unwrap_or(1)).collect();
+    common.sort_unstable_by(|a, b| b.cmp(a));
+    common.dedup();
+    let frames: Vec<(usize, f32, Vec<glam::Mat4>, Vec<Vec3>)> = character
+        .clips
+        .iter()
+        .enumerate()
+        .flat_map(|(c, clip)| {
+            (0..FRAMES).map(move |f| {
+                // The bench computes the time in f64 and hands it to the API as f64 → f32.
+                let t = (clip.duration() as f64 * (f as f64 + 0.5) / FRAMES as f64) as f32;
+                (c, t)
+            })
+        })
+        .map(|(c, t)| {
+            let pose = character.pose_at(&character.clips[c], t);
+            (c, t, character.skin_matrices(&pose), character.skinned_positions(&pose))
+        })
+        .collect();
+    let common_text: Vec<String> = common.iter().map(usize::to_string).collect();
+    println!("animated error at {} triangles (mean / hausdorff, % of diagonal):", common_text.join("/"));
+    let mut bind_mean = None;
+    for (label, pose) in poses {
+        let built = build(character, pose, &common);
+        let levels = built.levels.len();
+        let mut per_level = vec![0.0f64; levels];
+        let mut per_clip = vec![0.0f64; character.clips.len()];
+        let mut sum = 0.0f64;
+        let mut worst = 0.0f32;
+        for (clip, _, skin, full_posed) in &frames {
+            for (i, level) in built.levels.iter().enumerate() {
+                let posed = built.level_skinned_positions(i, skin);
+                let d = surface_distance((full_posed, &mesh.indices), (&posed, &level.indices), ANIMATED_SAMPLES, SEED)
+                    .expect("both meshes have area");
+                sum += d.mean as f64;
+                per_level[i] += d.mean as f64;
+                per_clip[*clip] += d.mean as f64;
+                worst = worst.max(d.hausdorff);
+            }
+        }
+        let mean = sum / (frames.len() * levels) as f64;
+        let versus = match bind_mean {
+            Some(b) if label != "bind" => format!(" ({:.1} % lower than bind)", (1.0 - mean / b) * 100.0),
+            _ => String::new(),
+        };
+        if label == "bind" {
+            bind_mean = Some(mean);
+        }
+        println!("  {label:<10} {:.3} / {:.3}{versus}", pct(mean), pct(worst as f64));
+        if detail {
+            let by_level: Vec<String> =
+                per_level.iter().map(|s| format!("{:.3}", pct(s / frames.len() as f64))).collect();
+            let by_clip: Vec<String> = character
+                .clips
+                .iter()
+                .zip(&per_clip)
+                .map(|(c, s)| format!("{} {:.3}", c.name, pct(s / (FRAMES * levels) as f64)))
+                .collect();
+            println!("    per level: {}", by_level.join(" "));
+            println!("    per clip: {}", by_clip.join(", "));
+        }
+    }
+    if oracle {
+        let levels = common.len();
+        let mut per_level = vec![0.0f64; levels];
+        let mut sum = 0.0f64;
+        for (clip, t, skin, full_posed) in &frames {
+            let pose = SimplificationPose::ClipFrame { clip: character.clips[*clip].name.clone(), time: *t };
+            let built = build(character, &pose, &common);
+            for (i, level) in built.levels.iter().enumerate() {
+                let posed = built.level_skinned_positions(i, skin);
+                let d = surface_distance((full_posed, &mesh.indices), (&posed, &level.indices), ANIMATED_SAMPLES, SEED)
+                    .expect("both meshes have area");
+                sum += d.mean as f64;
+                per_level[i.min(levels - 1)] += d.mean as f64;
+            }
+        }
+        let mean = sum / (frames.len() * levels) as f64;
+        let versus = bind_mean.map_or(String::new(), |b| format!(" ({:.1} % lower than bind)", (1.0 - mean / b) * 100.0));
+        println!("  {:<10} {:.3}{versus}", "oracle", pct(mean));
+        if detail {
+            let by_level: Vec<String> =
+                per_level.iter().map(|s| format!("{:.3}", pct(s / frames.len() as f64))).collect();
+            println!("    per level: {}", by_level.join(" "));
+        }
+    }
+}
