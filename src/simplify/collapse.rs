@@ -17,6 +17,7 @@
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::channels::Channels;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
 use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
@@ -79,8 +80,9 @@ fn stamp(version_u: u32, version_v: u32) -> u32 {
 }
 
 struct Engine<'a> {
-    weights: &'a [f32],
-    /// `1 / weight` per attribute channel, 0 for a disabled channel.
+    /// The priced attribute channels (see [`Channels`]).
+    priced: Channels,
+    /// `1 / weight` per priced channel.
     inverse_weights: Vec<f64>,
     /// Wedge sums of nothing: the partner of a wedge that merges with none.
     zero_sums: Vec<f64>,
@@ -149,7 +151,8 @@ impl<'a> Engine<'a> {
             .collect();
 
         let geometric = geometric_quadrics(&classes, input, &sides, &input_normal);
-        let (appearance, wedge_sums) = attribute_quadrics(&classes, input);
+        let priced = Channels::new(input.attributes, input.attribute_weights);
+        let (appearance, wedge_sums) = attribute_quadrics(&classes, input, &priced);
         let mut total = geometric.clone();
         for (t, a) in total.iter_mut().zip(&appearance) {
             *t += a;
@@ -168,13 +171,9 @@ impl<'a> Engine<'a> {
             stop: StopReason::NoValidCollapse,
         };
         Engine {
-            weights: input.attribute_weights,
-            inverse_weights: input
-                .attribute_weights
-                .iter()
-                .map(|&w| if w > 0.0 { 1.0 / w as f64 } else { 0.0 })
-                .collect(),
-            zero_sums: vec![0.0; 1 + 4 * m],
+            inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
+            zero_sums: vec![0.0; priced.stride()],
+            priced,
             materials: input.triangle_materials,
             mode: options.mode,
             channels: m,
@@ -441,7 +440,7 @@ impl<'a> Engine<'a> {
         };
         let mut total = self.total[ui];
         total += &self.total[vi];
-        let stride = 1 + 4 * self.channels;
+        let stride = self.priced.stride();
         let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
         for (iv, &wv) in v_wedges.iter().enumerate() {
             let partner = self.v_partner[iv];
@@ -472,10 +471,8 @@ impl<'a> Engine<'a> {
             } else {
                 let own =
                     &self.wedge_attributes[wv as usize * self.channels..(wv as usize + 1) * self.channels];
-                for ((g, d), (&w, &s)) in channels.zip(self.weights.iter().zip(own)) {
-                    if w > 0.0 {
-                        total.add_fixed_attribute(g, d, alpha * w as f64, s as f64);
-                    }
+                for ((g, d), &(j, w)) in channels.zip(&self.priced.priced) {
+                    total.add_fixed_attribute(g, d, alpha * w as f64, own[j] as f64);
                 }
             }
         }
@@ -657,7 +654,7 @@ impl<'a> Engine<'a> {
         let (ui, vi) = (u as usize, v as usize);
         let step = self.log.steps.len() as u32 + 1;
         let m = self.channels;
-        let stride = 1 + 4 * m;
+        let stride = self.priced.stride();
         let moved = p != self.position[vi];
         let first_new = self.log.positions.len() as u32;
         let u_range = self.classes.wedge_start[ui] as usize..self.classes.wedge_start[ui + 1] as usize;
@@ -690,12 +687,13 @@ impl<'a> Engine<'a> {
             }
             for j in 0..m {
                 let own = self.wedge_attributes[wv * m + j];
-                let w = self.weights[j] as f64;
+                let priced = self.priced.source[j];
+                let w = priced.map_or(0.0, |k| self.priced.priced[k].1 as f64);
                 let alpha_w = self.wedge_sums[wv * stride] * w;
                 let value = if self.mode == CollapseMode::HalfEdge {
                     own
-                } else if w > 0.0 && alpha_w > 0.0 {
-                    let base = wv * stride + 1 + 4 * j;
+                } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
+                    let base = wv * stride + 1 + 4 * k;
                     let g = DVec3::new(
                         self.wedge_sums[base],
                         self.wedge_sums[base + 1],

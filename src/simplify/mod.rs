@@ -17,6 +17,7 @@
 //! Units: positions in the caller's units; errors are mean squared distances (position units²),
 //! reported distances are their square roots.
 
+mod channels;
 mod collapse;
 pub mod quadric;
 mod queue;

@@ -6,8 +6,9 @@
 //!   border, material border or seam costs error.
 //! - Attribute quadrics (Hoppe 1999, see [`super::quadric`]): the `A, b, c` parts summed per
 //!   class, the cross terms `Σ area·w·g`, `Σ area·w·d` and `Σ area` kept per wedge, flat, with
-//!   stride `1 + 4 m` for `m` channels: `[Σ area, (gx, gy, gz, d) per channel]`.
+//!   stride `1 + 4 k` for `k` priced channels: `[Σ area, (gx, gy, gz, d) per priced channel]`.
 
+use super::channels::Channels;
 use super::quadric::{Quadric, TriangleFrame};
 use super::topology::{other_corners, Constraint, ConstraintSide, PositionClasses, NONE};
 use super::SimplifyInput;
@@ -75,18 +76,19 @@ pub(super) fn geometric_quadrics(
     geometric
 }
 
-/// Attribute quadric parts per class and the per-wedge sums (see the module docs). Channels with
-/// weight 0 and degenerate triangles contribute nothing.
+/// Attribute quadric parts per class and the per-wedge sums (see the module docs) of the priced
+/// channels (see [`Channels`]). Degenerate triangles contribute nothing.
 pub(super) fn attribute_quadrics(
     classes: &PositionClasses,
     input: &SimplifyInput,
+    channels: &Channels,
 ) -> (Vec<Quadric>, Vec<f64>) {
     let indices = input.indices;
     let m = input.attribute_weights.len();
-    let stride = 1 + 4 * m;
+    let stride = channels.stride();
     let mut appearance = vec![Quadric::ZERO; classes.count()];
     let mut wedge_sums = vec![0.0f64; input.positions.len() * stride];
-    if m == 0 {
+    if channels.priced.is_empty() {
         return (appearance, wedge_sums);
     }
     for t in 0..indices.len() / 3 {
@@ -101,16 +103,13 @@ pub(super) fn attribute_quadrics(
         // Σ over channels of aw · (g·p + d)², the attribute errors' pure-position part: summed
         // per face first, then added to each corner's class once.
         let mut face = Quadric::ZERO;
-        for (j, &w) in input.attribute_weights.iter().enumerate() {
-            if w <= 0.0 {
-                continue;
-            }
-            let s = corners.map(|k| input.attributes[indices[k] as usize * m + j] as f64);
+        for (k, &(j, w)) in channels.priced.iter().enumerate() {
+            let s = corners.map(|c| input.attributes[indices[c] as usize * m + j] as f64);
             let (g, d) = frame.gradient(s[0], s[1], s[2]);
             let aw = frame.area * w as f64;
             face += &Quadric::from_plane(g, d, aw);
             for corner in corners {
-                let base = indices[corner] as usize * stride + 1 + 4 * j;
+                let base = indices[corner] as usize * stride + 1 + 4 * k;
                 wedge_sums[base] += aw * g.x;
                 wedge_sums[base + 1] += aw * g.y;
                 wedge_sums[base + 2] += aw * g.z;
