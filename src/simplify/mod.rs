@@ -5,10 +5,11 @@
 //! 2. `topology` groups vertices into position classes (wedges sharing a position, Hoppe 1999),
 //!    builds per-class corner lists and classifies every class as interior, line (on a border,
 //!    material border or attribute seam) or locked;
-//! 3. `vertex_quadrics` builds the initial quadrics: area-weighted face planes (Garland &
-//!    Heckbert 1997) or the caller's, penalty planes along constraint edges, and Hoppe's (1999)
-//!    attribute quadrics per wedge;
-//! 4. `collapse` collapses position edges in strict order of cost from a binary heap with lazy
+//! 3. `channels` picks the attribute channels worth pricing (constant ones carry no error,
+//!    duplicates are priced once), and `vertex_quadrics` builds the initial quadrics:
+//!    area-weighted face planes (Garland & Heckbert 1997) or the caller's, penalty planes along
+//!    constraint edges, and Hoppe's (1999) attribute quadrics per wedge;
+//! 4. `collapse` collapses position edges in strict order of cost from a 4-ary heap with lazy
 //!    invalidation, rejecting collapses that break the link condition, tear seams, merge
 //!    constraint lines, or fold triangles;
 //! 5. [`crate::progressive`] turns the collapse log into a [`ProgressiveMesh`] (Hoppe 1996): a

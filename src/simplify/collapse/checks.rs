@@ -1,0 +1,173 @@
+//! The validity checks of a planned collapse (the link condition, duplicate triangles, merged
+//! constraint lines, folds) and the parking of an edge that failed them; part of the collapse
+//! engine in `mod.rs`, whose state they read.
+
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::super::topology::{other_corners, Kind, NONE};
+use super::{Engine, Plan};
+use glam::DVec3;
+
+/// A triangle may not face away from the input triangle it descends from: the cosine between its
+/// normal and that input normal must exceed this (≈ 89.9°). Turning past 90° is what makes a
+/// back face out of a front face (a fold); the small margin keeps the decision stable under
+/// rounding.
+const MIN_COS_TO_INPUT: f64 = 1e-3;
+/// A new triangle whose smallest angle is below about 1e-6 rad (|cross| < 1e-6 · longest edge²)
+/// counts as degenerate: its normal is rounding noise.
+const MIN_SIN_ANGLE: f64 = 1e-6;
+
+impl Engine<'_> {
+    /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
+    /// or wedges); non-manifold edges count as constraints.
+    fn edge_is_constraint(&self, a: u32, b: u32) -> bool {
+        let mut count = 0;
+        let mut first = (NONE, NONE, NONE);
+        for corner in self.lists.iter(a) {
+            let (n, p) = other_corners(corner);
+            let b_corner = if self.class_at(n) == b {
+                n
+            } else if self.class_at(p) == b {
+                p
+            } else {
+                continue;
+            };
+            let side = (
+                self.corner_wedge[corner as usize],
+                self.corner_wedge[b_corner as usize],
+                self.materials.get(corner as usize / 3).copied().unwrap_or(0),
+            );
+            count += 1;
+            if count == 1 {
+                first = side;
+            } else if side != first {
+                return true;
+            }
+        }
+        count != 2
+    }
+
+    /// Whether triangle `t` is acceptable after the corners at class `moving` go to `p`: not
+    /// degenerate, within ~90° of its input normal, and not turned by 90° or more in this step.
+    fn triangle_ok(&self, t: usize, moving: u32, p: DVec3) -> bool {
+        let old = [0, 1, 2].map(|k| self.position[self.class_at((3 * t + k) as u32) as usize]);
+        let new = [0, 1, 2].map(|k| if self.class_at((3 * t + k) as u32) == moving { p } else { old[k] });
+        let cross = (new[1] - new[0]).cross(new[2] - new[0]);
+        let longest = (new[1] - new[0])
+            .length_squared()
+            .max((new[2] - new[0]).length_squared())
+            .max((new[2] - new[1]).length_squared());
+        let length = cross.length();
+        if !(length > MIN_SIN_ANGLE * longest) {
+            return false;
+        }
+        let input = self.input_normal[t];
+        if input != DVec3::ZERO && cross.dot(input) <= MIN_COS_TO_INPUT * length {
+            return false;
+        }
+        let old_cross = (old[1] - old[0]).cross(old[2] - old[0]);
+        old_cross == DVec3::ZERO || cross.dot(old_cross) > 0.0
+    }
+
+    /// The topological and geometric checks of a planned collapse: link condition, no duplicate
+    /// triangles, no merged constraint lines, no folds.
+    pub(super) fn check(&mut self, plan: &Plan) -> bool {
+        let (u, v) = (plan.u, plan.v);
+        let stamp = self.next_stamp();
+        for corner in self.lists.iter(v) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            self.mark[a as usize] = stamp;
+            self.mark[b as usize] = stamp;
+        }
+        let mut opposite = [NONE; 2];
+        let mut count = 0;
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            let x = if a == v {
+                b
+            } else if b == v {
+                a
+            } else {
+                continue;
+            };
+            if count == 2 {
+                return false;
+            }
+            opposite[count] = x;
+            count += 1;
+        }
+        if count == 0 || (count == 2 && opposite[0] == opposite[1]) {
+            return false; // no longer an edge, or a pinched one
+        }
+        let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(p));
+            if a == v || b == v {
+                continue;
+            }
+            // Link condition: u and v may only share the neighbours across the edge.
+            for x in [a, b] {
+                if self.mark[x as usize] == stamp && !is_opposite(x) {
+                    return false;
+                }
+            }
+            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b).
+            if is_opposite(a) && is_opposite(b) && self.has_triangle(v, a, b) {
+                return false;
+            }
+        }
+        if self.kind[u as usize] != Kind::Interior {
+            for &x in &opposite[..count] {
+                // Two constraint edges of one triangle would merge into one, changing the
+                // number of lines at v and x (a line vertex would become a line end). Harmless
+                // when both are locked anyway: that only closes a chart corner or a border ear.
+                let both_locked = self.kind[v as usize].pinned() && self.kind[x as usize].pinned();
+                if !both_locked && self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
+                    return false;
+                }
+            }
+        }
+        for corner in self.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            if self.class_at(n) != v
+                && self.class_at(p) != v
+                && !self.triangle_ok(corner as usize / 3, u, plan.p)
+            {
+                return false;
+            }
+        }
+        if plan.p != self.position[v as usize] {
+            for corner in self.lists.iter(v) {
+                let (n, p) = other_corners(corner);
+                if self.class_at(n) != u
+                    && self.class_at(p) != u
+                    && !self.triangle_ok(corner as usize / 3, v, plan.p)
+                {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
+    pub(super) fn park(&mut self, c: u32, partner: u32) {
+        let record = self.failed.len() as u32;
+        self.failed.push((partner, self.failed_head[c as usize]));
+        self.failed_head[c as usize] = record;
+    }
+
+    /// Whether a live triangle has classes `c`, `a` and `b` (corner lists hold only live
+    /// triangles).
+    fn has_triangle(&self, c: u32, a: u32, b: u32) -> bool {
+        self.lists.iter(c).any(|corner| {
+            let (n, p) = other_corners(corner);
+            let (x, y) = (self.class_at(n), self.class_at(p));
+            (x == a && y == b) || (x == b && y == a)
+        })
+    }
+}
