@@ -245,18 +245,24 @@ fn multi_pose_quadrics(
         Some(_) => Vec::new(),
     };
     poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, &mesh.indices, &rigid);
+    // Only the corners of the other triangles need their skin matrices in each frame.
+    let mut moving = vec![false; mesh.vertex_count()];
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        if rigid.get(t) != Some(&true) {
+            for &v in tri {
+                moving[v as usize] = true;
+            }
+        }
+    }
     let weight = 1.0 / frames.len() as f64;
+    let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
+    let mut frame_quadrics =
+        poses::FrameQuadrics::new(&mesh.positions, &mesh.indices, p0_inverse.as_deref(), &rigid);
     for skin in &frames {
-        let matrices = poses::vertex_matrices(character, skin);
-        poses::add_frame_quadrics(
-            &mut quadrics,
-            &mesh.positions,
-            &mesh.indices,
-            p0_inverse.as_deref(),
-            &matrices,
-            weight,
-            &rigid,
-        );
+        for (v, m) in matrices.iter_mut().enumerate().filter(|(v, _)| moving[*v]) {
+            *m = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
+        }
+        frame_quadrics.add(&mut quadrics, &matrices, weight);
     }
     Some(quadrics)
 }

@@ -153,37 +153,77 @@ pub fn add_frame_quadrics(
     frame_weight: f64,
     skip: &[bool],
 ) {
-    let posed: Vec<DVec3> =
-        bind_positions.iter().zip(frame_matrices).map(|(&b, m)| m.transform_point3(b).as_dvec3()).collect();
-    let mut in_frame = vec![Quadric::ZERO; quadrics.len()];
-    for (t, tri) in indices.chunks_exact(3).enumerate() {
-        if skip.get(t) == Some(&true) {
-            continue;
-        }
-        let v = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-        let [a, b, c] = v.map(|i| posed[i]);
-        let n = (b - a).cross(c - a);
-        let double_area = n.length();
-        // Zero-area or non-finite (NaN compares false) triangles have no plane.
-        if double_area.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !double_area.is_finite() {
-            continue;
-        }
-        let normal = n / double_area;
-        let plane = Quadric::from_plane(normal, -normal.dot(a), 0.5 * double_area * frame_weight);
-        for &i in &v {
-            in_frame[i].add(&plane);
+    FrameQuadrics::new(bind_positions, indices, p0_inverse, skip).add(quadrics, frame_matrices, frame_weight);
+}
+
+/// [`add_frame_quadrics`] for frame after frame of one mesh, keeping its per-frame buffers (a
+/// posed position and a quadric per vertex) instead of allocating and clearing them every frame.
+pub struct FrameQuadrics<'a> {
+    bind_positions: &'a [Vec3],
+    indices: &'a [u32],
+    p0_inverse: Option<&'a [Mat4]>,
+    skip: &'a [bool],
+    posed: Vec<DVec3>,
+    /// The frame's planes per vertex; all zero between frames.
+    in_frame: Vec<Quadric>,
+}
+
+impl<'a> FrameQuadrics<'a> {
+    /// The mesh, `P0` and the triangles to skip, as [`add_frame_quadrics`] takes them.
+    pub fn new(
+        bind_positions: &'a [Vec3],
+        indices: &'a [u32],
+        p0_inverse: Option<&'a [Mat4]>,
+        skip: &'a [bool],
+    ) -> FrameQuadrics<'a> {
+        let n = bind_positions.len();
+        FrameQuadrics {
+            bind_positions,
+            indices,
+            p0_inverse,
+            skip,
+            posed: Vec::with_capacity(n),
+            in_frame: vec![Quadric::ZERO; n],
         }
     }
-    for (i, q) in in_frame.iter().enumerate() {
-        if q.weight == 0.0 {
-            continue; // no plane at this vertex in this frame
+
+    /// Adds one frame's pulled-back plane quadrics to `quadrics` (see [`add_frame_quadrics`]).
+    pub fn add(&mut self, quadrics: &mut [Quadric], frame_matrices: &[Mat4], frame_weight: f64) {
+        self.posed.clear();
+        self.posed.extend(
+            self.bind_positions.iter().zip(frame_matrices).map(|(&b, m)| m.transform_point3(b).as_dvec3()),
+        );
+        for (t, tri) in self.indices.chunks_exact(3).enumerate() {
+            if self.skip.get(t) == Some(&true) {
+                continue;
+            }
+            let v = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+            let [a, b, c] = v.map(|i| self.posed[i]);
+            let n = (b - a).cross(c - a);
+            let double_area = n.length();
+            // Zero-area or non-finite (NaN compares false) triangles have no plane.
+            if double_area.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !double_area.is_finite()
+            {
+                continue;
+            }
+            let normal = n / double_area;
+            let plane = Quadric::from_plane(normal, -normal.dot(a), 0.5 * double_area * frame_weight);
+            for &i in &v {
+                self.in_frame[i].add(&plane);
+            }
         }
-        // The frame's planes seen from P0 space: A(v)ᵀ K A(v) with A(v) = Mf(v) · M0(v)⁻¹.
-        let frame_from_p0 = match p0_inverse {
-            Some(inverse) => (frame_matrices[i] * inverse[i]).as_dmat4(),
-            None => frame_matrices[i].as_dmat4(),
-        };
-        quadrics[i].add(&pull_back(q, &frame_from_p0));
+        for (i, q) in self.in_frame.iter_mut().enumerate() {
+            if q.weight == 0.0 {
+                continue; // no plane at this vertex in this frame
+            }
+            // The frame's planes seen from P0 space: A(v)ᵀ K A(v) with A(v) = Mf(v) · M0(v)⁻¹.
+            let frame_from_p0 = match self.p0_inverse {
+                Some(inverse) => (frame_matrices[i] * inverse[i]).as_dmat4(),
+                None => frame_matrices[i].as_dmat4(),
+            };
+            quadrics[i].add(&pull_back(q, &frame_from_p0));
+            *q = Quadric::ZERO;
+        }
     }
 }
 
