@@ -28,7 +28,7 @@
 use clod_viewer::character::Character;
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import;
-use clod_viewer::metrics::{bounds_diagonal, surface_distance};
+use clod_viewer::metrics::{bounds_diagonal, surface_distance, SurfaceDistance};
 use glam::Vec3;
 
 const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
@@ -184,17 +184,10 @@ fn report(
         let mut sum = 0.0f64;
         let mut worst = 0.0f32;
         for (clip, _, skin, full_posed) in &frames {
-            for (i, level) in built.levels.iter().enumerate() {
-                let posed = built.level_skinned_positions(i, skin);
-                let d = surface_distance(
-                    (full_posed, &mesh.indices),
-                    (&posed, &level.indices),
-                    ANIMATED_SAMPLES,
-                    SEED,
-                )
-                .expect("both meshes have area");
+            for (i, level_sum) in per_level.iter_mut().enumerate() {
+                let d = animated_distance(&built, i, skin, full_posed, &mesh.indices);
                 sum += d.mean as f64;
-                per_level[i] += d.mean as f64;
+                *level_sum += d.mean as f64;
                 per_clip[*clip] += d.mean as f64;
                 worst = worst.max(d.hausdorff);
             }
@@ -228,15 +221,8 @@ fn report(
         for (clip, t, skin, full_posed) in &frames {
             let pose = SimplificationPose::ClipFrame { clip: character.clips[*clip].name.clone(), time: *t };
             let built = build(character, &pose, &common);
-            for (i, level) in built.levels.iter().enumerate() {
-                let posed = built.level_skinned_positions(i, skin);
-                let d = surface_distance(
-                    (full_posed, &mesh.indices),
-                    (&posed, &level.indices),
-                    ANIMATED_SAMPLES,
-                    SEED,
-                )
-                .expect("both meshes have area");
+            for i in 0..built.levels.len() {
+                let d = animated_distance(&built, i, skin, full_posed, &mesh.indices);
                 sum += d.mean as f64;
                 per_level[i.min(levels - 1)] += d.mean as f64;
             }
@@ -251,4 +237,17 @@ fn report(
             println!("    per level: {}", by_level.join(" "));
         }
     }
+}
+
+/// The bench's animated distance of level `i` skinned with `skin` from the full mesh posed the same way.
+fn animated_distance(
+    built: &Clod,
+    i: usize,
+    skin: &[glam::Mat4],
+    full_posed: &[Vec3],
+    full_indices: &[u32],
+) -> SurfaceDistance {
+    let posed = built.level_skinned_positions(i, skin);
+    surface_distance((full_posed, full_indices), (&posed, &built.levels[i].indices), ANIMATED_SAMPLES, SEED)
+        .expect("both meshes have area")
 }
