@@ -97,7 +97,8 @@ struct Engine<'a> {
     geometric: Vec<Quadric>,
     /// Geometric plus attribute quadric per class; its weight is the geometric weight.
     total: Vec<Quadric>,
-    /// Per wedge: `[Σ area, then per channel Σ area·w·g (3), Σ area·w·d]`, stride `1 + 4m`.
+    /// Per wedge: `[Σ area, then per priced channel Σ area·w·g (3), Σ area·w·d]`, stride
+    /// `priced.stride()`.
     wedge_sums: Vec<f64>,
     wedge_attributes: Vec<f32>,
     vertex_id: Vec<u32>,
