@@ -131,27 +131,19 @@ impl Engine<'_> {
                 }
             }
         }
-        for corner in self.lists.iter(u) {
-            let (n, p) = other_corners(corner);
-            if self.class_at(n) != v
-                && self.class_at(p) != v
-                && !self.triangle_ok(corner as usize / 3, u, plan.p)
-            {
-                return false;
-            }
-        }
-        if plan.p != self.position[v as usize] {
-            for corner in self.lists.iter(v) {
-                let (n, p) = other_corners(corner);
-                if self.class_at(n) != u
-                    && self.class_at(p) != u
-                    && !self.triangle_ok(corner as usize / 3, v, plan.p)
-                {
-                    return false;
-                }
-            }
-        }
-        true
+        self.fan_unfolded(u, v, plan.p)
+            && (plan.p == self.position[v as usize] || self.fan_unfolded(v, u, plan.p))
+    }
+
+    /// Whether every triangle around `moving` that survives the collapse with `other` (does not
+    /// contain it) stays acceptable when `moving` goes to `p` (see [`Engine::triangle_ok`]).
+    fn fan_unfolded(&self, moving: u32, other: u32, p: DVec3) -> bool {
+        self.lists.iter(moving).all(|corner| {
+            let (n, q) = other_corners(corner);
+            self.class_at(n) == other
+                || self.class_at(q) == other
+                || self.triangle_ok(corner as usize / 3, moving, p)
+        })
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
