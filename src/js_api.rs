@@ -131,6 +131,8 @@ impl Character {
     /// `'mid-clip'` (the middle of the first clip), `'bind'` or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
     /// `weights`: `'survivor'` (default) or `'blend'` for the skin weights of new vertices;
+    /// `maxError`: the floor, stop before a collapse whose error exceeds this fraction of the
+    /// bounding-box diagonal (default 0.05; `Infinity` goes as far as the topology allows);
     /// `onProgress(fraction)`: called with fractions from 0 to 1.
     ///
     /// Throws on malformed options (naming the option) or a mesh that cannot be simplified.
@@ -364,6 +366,17 @@ fn parse_clod_options(
         Some("survivor") => out.weights = WeightRule::Survivor,
         Some("blend") => out.weights = WeightRule::Blend,
         _ => return Err(JsError::new("weights must be 'survivor' or 'blend'")),
+    }
+    let max_error = get("maxError");
+    if !max_error.is_undefined() {
+        match max_error.as_f64() {
+            Some(e) if e > 0.0 => out.max_error = e as f32,
+            _ => {
+                return Err(JsError::new(&format!(
+                    "maxError must be a positive fraction of the diagonal, got {max_error:?}"
+                )))
+            }
+        }
     }
     let on_progress = get("onProgress");
     let on_progress = if on_progress.is_undefined() {

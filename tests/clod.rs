@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose};
 use clod_viewer::metrics::bounds_diagonal;
-use clod_viewer::simplify::CollapseMode;
+use clod_viewer::simplify::{CollapseMode, StopReason};
 use clod_viewer::{import, Character};
 
 const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
@@ -182,6 +182,27 @@ fn every_level_animates_with_every_clip() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_floor_stops_before_a_collapse_costlier_than_the_max_error() {
+    let Some(character) = load("Fox.glb") else { return };
+    let levels = Some(vec![400, 20]);
+    let floored = build(&character, &ClodOptions { level_triangles: levels.clone(), ..Default::default() });
+    let unbounded = build(
+        &character,
+        &ClodOptions { level_triangles: levels, max_error: f32::INFINITY, ..Default::default() },
+    );
+    let limit = (clod::DEFAULT_MAX_ERROR * bounds_diagonal(&character.mesh.positions)).powi(2);
+    let (pm, all) = (&floored.apm.pm, &unbounded.apm.pm);
+    assert_eq!(pm.stop, StopReason::MaxErrorReached);
+    assert!(pm.collapses.iter().all(|c| c.cost <= limit));
+    // The same collapses up to the floor, then the first one over it.
+    assert!(all.collapses.len() > pm.collapses.len());
+    assert_eq!(all.collapses[..pm.collapses.len()], pm.collapses[..]);
+    assert!(all.collapses[pm.collapses.len()].cost > limit);
+    check_chain("Fox floored", &floored);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn bad_options_are_errors_that_say_what_is_wrong() {
     let Some(character) = load("RiggedSimple.glb") else { return };
     let bad_levels = ClodOptions { level_triangles: Some(vec![100, 200]), ..Default::default() };
@@ -194,6 +215,11 @@ fn bad_options_are_errors_that_say_what_is_wrong() {
     };
     let err = clod::build(&character, &bad_clip, &mut |_| {}).unwrap_err().to_string();
     assert!(err.contains("Dance") && err.contains("Anim_0_Armature"), "{err}");
+    for bad in [0.0, -1.0, f32::NAN] {
+        let options = ClodOptions { max_error: bad, ..Default::default() };
+        let err = clod::build(&character, &options, &mut |_| {}).unwrap_err().to_string();
+        assert!(err.contains("maximum error"), "{err}");
+    }
     let mut progress = Vec::new();
     clod::build(&character, &ClodOptions::default(), &mut |f| progress.push(f)).unwrap();
     assert!(progress.windows(2).all(|w| w[0] <= w[1]) && progress.last() == Some(&1.0), "{progress:?}");

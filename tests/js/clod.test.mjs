@@ -62,6 +62,14 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   assert.throws(() => fox.buildClod({ pose: { clip: 'Dance', time: 1 } }), /Dance/);
   assert.throws(() => fox.buildClod({ mode: 'quarter' }), /mode must be/);
   assert.throws(() => fox.buildClod({ onProgress: 3 }), /onProgress/);
+  assert.throws(() => fox.buildClod({ maxError: 0 }), /maxError/);
+  assert.throws(() => fox.buildClod({ maxError: 'low' }), /maxError/);
+  // The default floor (5 % of the diagonal) keeps Fox's legs; without it the simplifier goes on.
+  const floored = fox.buildClod({ levels: [400, 20] });
+  const unbounded = fox.buildClod({ levels: [400, 20], maxError: Infinity });
+  assert.ok(floored.level(1).triangleCount > unbounded.level(1).triangleCount);
+  floored.free();
+  unbounded.free();
   fox.free();
 });
 
