@@ -1,7 +1,9 @@
-//! The renderer's WGSL, checked without a GPU: it parses and validates with naga (what wgpu runs
-//! on it), every entry point translates to GLSL ES 3.00 for WebGL2, and each uniform struct has
-//! the size of its `#[repr(C)]` Rust mirror (naga's layouter gives WGSL's size).
+//! The renderer's WGSL (`skin.wgsl`, `mipmap.wgsl`), checked without a GPU: it parses and
+//! validates with naga (what wgpu runs on it), every entry point translates to GLSL ES 3.00 for
+//! WebGL2, and each uniform struct has the size of its `#[repr(C)]` Rust mirror (naga's layouter
+//! gives WGSL's size).
 
+use clod_viewer::render::mipmap::MIPMAP_WGSL;
 use clod_viewer::render::uniforms::{MAX_JOINTS, MIRRORS, SKIN_WGSL};
 use naga::back::glsl;
 use naga::valid::{Capabilities, ValidationFlags, Validator};
@@ -40,7 +42,22 @@ fn skin_shader_validates_and_has_the_entry_points_the_renderer_binds() {
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skin_shader_translates_to_webgl2_glsl() {
-    let (module, info) = parse_and_validate(SKIN_WGSL);
+    translates_to_webgl2_glsl(SKIN_WGSL);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn mipmap_shader_validates_and_translates_to_webgl2_glsl() {
+    let (module, _) = parse_and_validate(MIPMAP_WGSL);
+    let mut names: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["fs_mip", "vs_mip"]);
+    translates_to_webgl2_glsl(MIPMAP_WGSL);
+}
+
+/// Every entry point of `source` translates to GLSL ES 3.00, as wgpu does for WebGL2.
+fn translates_to_webgl2_glsl(source: &str) {
+    let (module, info) = parse_and_validate(source);
     let options = glsl::Options {
         version: glsl::Version::Embedded { version: 300, is_webgl: true },
         ..glsl::Options::default()

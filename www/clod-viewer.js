@@ -18,7 +18,7 @@
 // Events: `progress` (detail `{ phase, fraction }`, fraction rising to 1 across the phases
 // `fetch`, `build`, `gpu`, `ready`), `load` (detail: the viewer's state), `error` (detail
 // `{ message }`). Methods: play(), pause(), setTime(seconds), setState({...}), state(),
-// load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike().
+// load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i).
 
 const here = new URL('.', import.meta.url);
 const DEFAULT_SRC = new URL('assets/character.glb', here).href;
@@ -222,6 +222,8 @@ export class ClodViewerElement extends HTMLElement {
   renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
   /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */
   readPixels() { return this.#requireViewer().readPixels(); }
+  /** Mip levels of material `i`'s texture read back: `[{ width, height, mean }]` (linear light). */
+  textureLevels(i) { return this.#requireViewer().textureLevels(i); }
   /** Resolves when the GPU has finished the submitted frames. */
   finish() { return this.#requireViewer().finish(); }
   /** Measures each view's largest frame-to-frame change through one LOD switch. */

@@ -310,6 +310,7 @@ function exposeTestHook() {
     setState: (state) => viewer.setState(state),
     renderFrame: (nowMs) => viewer.renderFrame(nowMs),
     readPixels: () => viewer.readPixels(),
+    textureLevels: (i) => viewer.textureLevels(i),
     finish: () => viewer.finish(),
     state: () => viewer.state(),
     measurePopSpike: (options) => viewer.measurePopSpike(options),

@@ -10,6 +10,7 @@
 pub mod camera;
 pub mod layout;
 pub mod lod_source;
+pub mod mipmap;
 pub mod overlay;
 pub mod plan;
 pub mod pop_spike;

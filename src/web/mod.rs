@@ -262,6 +262,33 @@ impl Viewer {
         })
     }
 
+    /// Reads back the mip levels of material `material`'s base-colour texture and resolves to an
+    /// array of `{ width, height, mean: [r, g, b, a] }`, level 0 first, means in linear light
+    /// (0–1); empty for a material without a texture. For tests: the levels are made on the GPU.
+    #[wasm_bindgen(js_name = textureLevels)]
+    #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: the viewer stays locked meanwhile
+    pub fn texture_levels(&self, material: usize) -> js_sys::Promise {
+        let inner = Rc::clone(&self.inner);
+        wasm_bindgen_futures::future_to_promise(async move {
+            let guard = inner.try_borrow().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let levels = guard
+                .renderer
+                .texture_levels(material)
+                .await
+                .map_err(|e| JsValue::from_str(&e.to_string()))?;
+            let out = js_sys::Array::new();
+            for level in levels {
+                let item = js_sys::Object::new();
+                let set = |k: &str, v: JsValue| js_sys::Reflect::set(&item, &k.into(), &v).map(|_| ());
+                set("width", level.width.into())?;
+                set("height", level.height.into())?;
+                set("mean", js_sys::Float32Array::from(level.mean_linear.as_slice()).into())?;
+                out.push(&item);
+            }
+            Ok(out.into())
+        })
+    }
+
     /// Resolves when the GPU has finished all submitted frames (for timing).
     #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: the viewer stays locked meanwhile
     pub fn finish(&self) -> js_sys::Promise {

@@ -4,7 +4,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, existsSync } from 'node:fs';
-import { launch, openPage, frame, readPixels, crop, foregroundFraction, baseUrl } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, foregroundFraction, baseUrl, SMALL_VIEWPORT } from './helpers.mjs';
 
 const models = new URL('../../../shared/models/', import.meta.url);
 
@@ -257,4 +257,28 @@ test('a file opened while another is still building wins, and only its events co
   assert.deepEqual(events, [{ type: 'load', triangles: 576, message: undefined }]);
   assert.equal((await frame(page, 1000)).triangles, 576);
   assert.equal(await page.locator('[role=alert]').isHidden(), true, 'the superseded file is not reported as a failure');
+});
+
+// Textures are mipmapped on the GPU (src/render/gpu/mipmaps.rs): without mip levels a distant
+// texture aliases and shimmers, which looks like popping. Each level halves the one above down to
+// 1×1, and a box filter keeps the mean colour in linear light.
+test('CesiumMan\'s texture has every mip level down to 1×1, each with the mean colour of level 0, on WebGPU and WebGL2', async () => {
+  if (!model('CesiumMan.glb')) return;
+  for (const backend of ['webgpu', 'webgl2']) {
+    const page = await openPage(browser, { backend, model: '/models/CesiumMan.glb' }, SMALL_VIEWPORT);
+    const levels = await page.evaluate(async () =>
+      (await window.__clod.textureLevels(0)).map((l) => ({ width: l.width, height: l.height, mean: Array.from(l.mean) })));
+    await page.close();
+    assert.ok(levels.length > 1, `${backend}: ${JSON.stringify(levels)}`);
+    const [first] = levels;
+    assert.equal(levels.length, Math.floor(Math.log2(Math.max(first.width, first.height))) + 1, backend);
+    levels.forEach((level, i) => {
+      assert.equal(level.width, Math.max(1, first.width >> i), `${backend} level ${i}`);
+      assert.equal(level.height, Math.max(1, first.height >> i), `${backend} level ${i}`);
+      for (let c = 0; c < 4; c++) {
+        assert.ok(Math.abs(level.mean[c] - first.mean[c]) < 0.01, `${backend} level ${i} channel ${c}: ${level.mean[c]} vs ${first.mean[c]}`);
+      }
+    });
+    assert.ok(Math.max(...first.mean.slice(0, 3)) > 0.05, `${backend}: level 0 is black`);
+  }
 });

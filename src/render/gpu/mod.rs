@@ -18,6 +18,8 @@ use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
 mod frame_targets;
+mod mipmaps;
+pub use mipmaps::TextureLevel;
 mod pipelines;
 mod readback;
 mod resources;
@@ -84,6 +86,8 @@ struct LevelGpu {
 struct MaterialGpu {
     bind_group: wgpu::BindGroup,
     double_sided: bool,
+    /// The decoded base-colour texture with its mip levels (`None`: the default white texel).
+    texture: Option<wgpu::Texture>,
 }
 
 /// Pipeline key: pass kind, geomorph vertex shader, back-face culling.

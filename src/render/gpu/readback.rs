@@ -89,7 +89,7 @@ impl Renderer {
 /// Maps `buffer` for reading and waits for it. WebGPU resolves the map from the browser's event
 /// loop; the GL backend only when polled after its fence has signalled, which WebGL cannot block
 /// on — so this polls, yielding to the event loop between tries, for at most [`MAP_TIMEOUT_MS`].
-async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), RenderError> {
+pub(super) async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), RenderError> {
     let result: std::rc::Rc<std::cell::Cell<Option<bool>>> = Default::default();
     let done = std::rc::Rc::clone(&result);
     buffer.map_async(wgpu::MapMode::Read, .., move |r| done.set(Some(r.is_ok())));

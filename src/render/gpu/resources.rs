@@ -2,6 +2,7 @@
 //! bind group per material with its base-colour texture decoded by the browser.
 
 use super::*;
+use crate::render::mipmap::mip_level_count;
 use crate::render::overlay::edge_indices;
 
 /// Vertex and index buffers of a level, and its edges for the wireframe overlay; materials
@@ -56,6 +57,7 @@ pub(super) async fn upload_materials(
         address_mode_v: wgpu::AddressMode::Repeat,
         mag_filter: wgpu::FilterMode::Linear,
         min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
         ..Default::default()
     });
     let white = device.create_texture_with_data(
@@ -82,12 +84,15 @@ pub(super) async fn upload_materials(
         double_sided: false,
     };
     for material in character.materials.iter().chain([&default]) {
-        let texture = match &material.base_color_texture {
-            Some(image) => decode_texture(device, queue, &image.bytes, &image.mime_type)
-                .await
-                .map_err(|reason| RenderError::Texture { material: material.name.clone(), reason })?,
-            None => white.clone(),
+        let decoded = match &material.base_color_texture {
+            Some(image) => Some(
+                decode_texture(device, queue, &image.bytes, &image.mime_type)
+                    .await
+                    .map_err(|reason| RenderError::Texture { material: material.name.clone(), reason })?,
+            ),
+            None => None,
         };
+        let texture = decoded.clone().unwrap_or_else(|| white.clone());
         let raw = MaterialRaw {
             base_color_factor: material.base_color_factor.to_array(),
             alpha_cutoff: match material.alpha_mode {
@@ -112,12 +117,13 @@ pub(super) async fn upload_materials(
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
             ],
         });
-        out.push(MaterialGpu { bind_group, double_sided: material.double_sided });
+        out.push(MaterialGpu { bind_group, double_sided: material.double_sided, texture: decoded });
     }
     Ok(out)
 }
 
-/// Decodes an encoded image with the browser and copies it into an sRGB texture.
+/// Decodes an encoded image with the browser, copies it into level 0 of an sRGB texture and fills
+/// its mip levels.
 async fn decode_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -150,13 +156,15 @@ async fn decode_texture(
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("base colour"),
         size,
-        mip_level_count: 1,
+        mip_level_count: mip_level_count(size.width, size.height),
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: wgpu::TextureFormat::Rgba8UnormSrgb,
-        // copy_external_image_to_texture needs RENDER_ATTACHMENT on WebGPU.
+        // copy_external_image_to_texture needs RENDER_ATTACHMENT on WebGPU, and so does drawing
+        // the mip levels; COPY_SRC lets the page's tests read the levels back.
         usage: wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::COPY_SRC
             | wgpu::TextureUsages::RENDER_ATTACHMENT,
         view_formats: &[],
     });
@@ -176,5 +184,6 @@ async fn decode_texture(
         },
         size,
     );
+    super::mipmaps::generate_mipmaps(device, queue, &texture);
     Ok(texture)
 }
