@@ -18,14 +18,19 @@ fn parse_and_validate(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
     (module, info)
 }
 
+/// The entry points of a validated `source`, sorted.
+fn entry_points(source: &str) -> Vec<String> {
+    let (module, _) = parse_and_validate(source);
+    let mut names: Vec<String> = module.entry_points.iter().map(|e| e.name.clone()).collect();
+    names.sort();
+    names
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skin_shader_validates_and_has_the_entry_points_the_renderer_binds() {
-    let (module, _) = parse_and_validate(SKIN_WGSL);
-    let mut names: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    names.sort();
     assert_eq!(
-        names,
+        entry_points(SKIN_WGSL),
         [
             "fs_bone",
             "fs_main",
@@ -48,10 +53,7 @@ fn skin_shader_translates_to_webgl2_glsl() {
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn mipmap_shader_validates_and_translates_to_webgl2_glsl() {
-    let (module, _) = parse_and_validate(MIPMAP_WGSL);
-    let mut names: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    names.sort();
-    assert_eq!(names, ["fs_mip", "vs_mip"]);
+    assert_eq!(entry_points(MIPMAP_WGSL), ["fs_mip", "vs_mip"]);
     translates_to_webgl2_glsl(MIPMAP_WGSL);
 }
 
