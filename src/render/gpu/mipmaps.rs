@@ -1,6 +1,7 @@
 //! Fills the mip levels of a base-colour texture on the GPU, each from the one above
 //! (`render/mipmap.wgsl`), and reads them back for the page's tests.
 
+use super::readback::read_texture_level;
 use super::*;
 use crate::render::mipmap::MIPMAP_WGSL;
 
@@ -106,49 +107,15 @@ impl Renderer {
         let Some(texture) = self.materials.get(material).and_then(|m| m.texture.as_ref()) else {
             return Ok(Vec::new());
         };
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        let mut copies = Vec::new();
+        let mut levels = Vec::new();
         for level in 0..texture.mip_level_count() {
             let size = texture.size().mip_level_size(level, wgpu::TextureDimension::D2);
-            // Rows of a texture-to-buffer copy are padded to 256 bytes (WebGPU's rule).
-            let padded = (4 * size.width).div_ceil(256) * 256;
-            let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("mip level readback"),
-                size: u64::from(padded) * u64::from(size.height),
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: level,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(padded),
-                        rows_per_image: Some(size.height),
-                    },
-                },
-                size,
-            );
-            copies.push((size, padded, buffer));
-        }
-        self.queue.submit([encoder.finish()]);
-        let mut levels = Vec::new();
-        for (size, padded, buffer) in copies {
-            super::readback::map_read(&self.device, &buffer).await?;
-            let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
+            let texels = read_texture_level(&self.device, &self.queue, texture, level, None).await?;
             let mut sum = [0f64; 4];
-            for row in mapped.chunks_exact(padded as usize) {
-                for texel in row[..4 * size.width as usize].chunks_exact(4) {
-                    for (k, &byte) in texel.iter().enumerate() {
-                        let c = f64::from(byte) / 255.0;
-                        sum[k] += if k == 3 { c } else { srgb_to_linear(c) };
-                    }
+            for texel in texels.chunks_exact(4) {
+                for (k, &byte) in texel.iter().enumerate() {
+                    let c = f64::from(byte) / 255.0;
+                    sum[k] += if k == 3 { c } else { srgb_to_linear(c) };
                 }
             }
             let count = f64::from(size.width * size.height);

@@ -1,5 +1,6 @@
-//! Reading a frame back: an offscreen draw at the canvas size copied into a mappable buffer, and
-//! the fence the frame timer waits on. WebGL2 cannot block on the GPU, so maps are polled with a
+//! Reading back: an offscreen draw at the canvas size, or one mip level of a texture
+//! ([`read_texture_level`]), copied into a mappable buffer; and the fence the frame timer waits
+//! on. WebGL2 cannot block on the GPU, so maps are polled with a
 //! deadline, yielding to the browser's event loop between tries.
 
 use super::*;
@@ -23,48 +24,14 @@ impl Renderer {
                 | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let mut commands = vec![self.encode(frame, &texture)];
-        // Rows of a texture-to-buffer copy are padded to 256 bytes (WebGPU's rule).
-        let row = 4 * width as u64;
-        let padded = row.div_ceil(256) * 256;
-        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: padded * height as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded as u32),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        );
-        commands.push(encoder.finish());
-        self.queue.submit(commands);
-        map_read(&self.device, &buffer).await?;
-        let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
-        let bgra = matches!(
-            self.color_format,
-            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
-        );
-        let mut rgba = Vec::with_capacity((row * height as u64) as usize);
-        for y in 0..height as usize {
-            let line = &mapped[y * padded as usize..y * padded as usize + row as usize];
-            if bgra {
-                rgba.extend(line.chunks_exact(4).flat_map(|p| [p[2], p[1], p[0], p[3]]));
-            } else {
-                rgba.extend_from_slice(line);
+        let draw = self.encode(frame, &texture);
+        let mut rgba = read_texture_level(&self.device, &self.queue, &texture, 0, Some(draw)).await?;
+        if matches!(self.color_format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb)
+        {
+            for texel in rgba.chunks_exact_mut(4) {
+                texel.swap(0, 2);
             }
         }
-        drop(mapped);
-        buffer.unmap();
         Ok(Pixels { width, height, rgba })
     }
 
@@ -86,10 +53,62 @@ impl Renderer {
     }
 }
 
+/// Reads back mip `level` of `texture` (4 bytes per texel), after the command buffer `before` if
+/// any (submitted together with the copy): its rows tightly packed, top row first.
+///
+/// # Errors
+/// [`RenderError::Readback`] when the GPU cannot map the copy.
+pub(super) async fn read_texture_level(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    level: u32,
+    before: Option<wgpu::CommandBuffer>,
+) -> Result<Vec<u8>, RenderError> {
+    let size = texture.size().mip_level_size(level, wgpu::TextureDimension::D2);
+    // Rows of a texture-to-buffer copy are padded to 256 bytes (WebGPU's rule).
+    let row = 4 * size.width as usize;
+    let padded = row.div_ceil(256) * 256;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: (padded * size.height as usize) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: level,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded as u32),
+                rows_per_image: Some(size.height),
+            },
+        },
+        size,
+    );
+    queue.submit(before.into_iter().chain([encoder.finish()]));
+    map_read(device, &buffer).await?;
+    let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
+    let mut texels = Vec::with_capacity(row * size.height as usize);
+    for line in mapped.chunks_exact(padded) {
+        texels.extend_from_slice(&line[..row]);
+    }
+    drop(mapped);
+    buffer.unmap();
+    Ok(texels)
+}
+
 /// Maps `buffer` for reading and waits for it. WebGPU resolves the map from the browser's event
 /// loop; the GL backend only when polled after its fence has signalled, which WebGL cannot block
 /// on — so this polls, yielding to the event loop between tries, for at most [`MAP_TIMEOUT_MS`].
-pub(super) async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), RenderError> {
+async fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), RenderError> {
     let result: std::rc::Rc<std::cell::Cell<Option<bool>>> = Default::default();
     let done = std::rc::Rc::clone(&result);
     buffer.map_async(wgpu::MapMode::Read, .., move |r| done.set(Some(r.is_ok())));
