@@ -109,6 +109,18 @@ impl Character {
         flatten(&self.inner.mesh.positions)
     }
 
+    /// Unit bind-space normals, xyz per vertex (computed from the triangles when the file has
+    /// none).
+    pub fn normals(&self) -> Vec<f32> {
+        flatten(&self.inner.mesh.normals)
+    }
+
+    /// The first texture coordinate set, uv per vertex (zeros on primitives without one), or
+    /// `undefined` when no primitive has texture coordinates.
+    pub fn uvs(&self) -> Option<Vec<f32>> {
+        self.inner.mesh.uvs.as_ref().map(|uvs| uvs.iter().flat_map(|uv| uv.to_array()).collect())
+    }
+
     /// CPU-skinned positions (xyz per vertex, whole mesh) of clip `clipName` at `timeSeconds`
     /// (looping).
     ///

@@ -37,6 +37,20 @@ for (const model of models) {
     assert.ok(bind instanceof Float32Array);
     assert.equal(bind.length, 3 * character.vertexCount);
 
+    const normals = character.normals();
+    assert.ok(normals instanceof Float32Array);
+    assert.equal(normals.length, bind.length);
+    for (let v = 0; v < character.vertexCount; v++) {
+      const length = Math.hypot(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+      assert.ok(Math.abs(length - 1) < 1e-3, `normal ${v} has length ${length}`);
+    }
+    // All three models are textured.
+    const uvs = character.uvs();
+    assert.ok(uvs instanceof Float32Array);
+    assert.equal(uvs.length, 2 * character.vertexCount);
+    assert.ok(uvs.every(Number.isFinite));
+    assert.ok(uvs.some((x) => x !== 0), 'the texture coordinates are not all zero');
+
     for (const clip of character.clipNames) {
       const duration = character.clipDuration(clip);
       assert.ok(duration > 0, `${clip} has a duration`);
@@ -82,4 +96,12 @@ test('a .gltf with an external buffer loads through the resolver', (t) => {
   assert.deepEqual(asked, ['external data.bin']);
   assert.equal(character.triangleCount, api.Character.fromGlb(bytes).triangleCount);
   assert.throws(() => api.Character.fromGltf(text, () => null), /external data\.bin/);
+
+  // Without texture coordinates, uvs() is undefined; the normals are the same.
+  for (const mesh of json.meshes) for (const primitive of mesh.primitives) delete primitive.attributes.TEXCOORD_0;
+  const untextured = api.Character.fromGltf(new TextEncoder().encode(JSON.stringify(json)), () => bin);
+  assert.equal(untextured.uvs(), undefined);
+  assert.deepEqual(untextured.normals(), character.normals());
+  untextured.free();
+  character.free();
 });
