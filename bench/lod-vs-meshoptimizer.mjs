@@ -6,7 +6,9 @@
 // For each model in ../shared/models and the built-in character it prints, as ratios measured in this run:
 //  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
 //     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last),
-//     each the best of at least 5 runs and of as many as fit in 1.5 s;
+//     each the best of at least 5 runs and of as many as fit in 1.5 s; and, for context, meshoptimizer doing
+//     our job: the unwelded mesh with normals and uv priced, keeping vertices (simplifyWithAttributes) or
+//     moving them (simplifyWithUpdate), as a chain;
 //  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
 //     diagonal, same seed and sample count for both);
 //  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
@@ -56,6 +58,45 @@ function meshoptLevels(indices, positions, counts, chained) {
 }
 
 /**
+ * meshoptimizer doing the job ours does: the unwelded mesh (so attribute seams are kept), normals and uv
+ * priced (weight 1 each, the docs' advice for unit-range attributes), as a chain. `update` uses
+ * `simplifyWithUpdate`, which moves vertices and their attributes to better places as our full collapses
+ * do, and copies each level's vertex data out (the next level overwrites it); otherwise
+ * `simplifyWithAttributes`, which keeps a subset of the input vertices as our half-edge mode does.
+ */
+function meshoptAttributeChain(indices, positions, attributes, counts, update) {
+  const weights = [1, 1, 1, 1, 1];
+  const levels = [];
+  let source = indices;
+  const moved = update ? positions.slice() : positions;
+  const movedAttributes = update ? attributes.slice() : attributes;
+  for (const triangles of counts) {
+    if (update) {
+      const working = source.slice();
+      const [count] = MeshoptSimplifier.simplifyWithUpdate(working, moved, 3, movedAttributes, 5, weights, null, triangles * 3, 1.0);
+      source = working.subarray(0, count);
+      levels.push({ indices: source, positions: moved.slice(), attributes: movedAttributes.slice() });
+    } else {
+      [source] = MeshoptSimplifier.simplifyWithAttributes(source, positions, 3, attributes, 5, weights, null, triangles * 3, 1.0);
+      levels.push(source);
+    }
+  }
+  return levels;
+}
+
+/** Normals and uv interleaved, five floats per vertex (uv 0 when the model has none). */
+function normalsAndUvs(character) {
+  const normals = character.normals();
+  const uvs = character.uvs();
+  const out = new Float32Array(5 * character.vertexCount);
+  for (let v = 0; v < character.vertexCount; v++) {
+    out.set(normals.subarray(3 * v, 3 * v + 3), 5 * v);
+    if (uvs) out.set(uvs.subarray(2 * v, 2 * v + 2), 5 * v + 3);
+  }
+  return out;
+}
+
+/**
  * Best time of `fn`: at least `minRuns` runs and as many as fit in `budgetMs`. The machine is shared,
  * so one slow run says little; small models build in about a millisecond, so they get many runs.
  */
@@ -98,12 +139,21 @@ for (const [name, bytes, path] of list) {
 
   const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded, positions, counts, false));
   const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
+  const attributes = normalsAndUvs(character);
+  const [, withAttributesMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, false));
+  const [, withUpdateMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, true));
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
   const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
+  // Simplifying one static pose, as meshoptimizer does: our build without the multi-pose frames.
+  const [, oursBindMs] = timeIt(() => character.buildClod({ levels: counts, pose: 'bind' }).free());
+  const attributeLine = `meshoptimizer chain with normals and uv: simplifyWithAttributes ${withAttributesMs.toFixed(1)} ms, ` +
+    `simplifyWithUpdate ${withUpdateMs.toFixed(1)} ms; ours in the bind pose ${oursBindMs.toFixed(1)} ms: ` +
+    `ratio ours/update chain = ${(oursMs / withUpdateMs).toFixed(2)} (bind pose ${(oursBindMs / withUpdateMs).toFixed(2)})`;
   if (BUILD_ONLY) {
     console.log(`${name}: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms: ` +
       `ratio ${(oursMs / meshoptChainMs).toFixed(2)}; ours native ${native[path].toFixed(1)} ms`);
+    console.log(`  ${attributeLine}`);
     character.free();
     continue;
   }
@@ -113,6 +163,7 @@ for (const [name, bytes, path] of list) {
   console.log(`build: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms ` +
     `(independent ${meshoptIndependentMs.toFixed(1)} ms): ratio ours/chain = ${(oursMs / meshoptChainMs).toFixed(2)}; ` +
     `ours native ${native[path].toFixed(1)} ms (wasm/native ${(oursMs / native[path]).toFixed(2)})`);
+  console.log(attributeLine);
 
   // Compare at the same triangle count: where one side stopped short of a target, the other is
   // taken to that side's count too (ours through the continuous LOD, meshoptimizer re-run).
