@@ -10,7 +10,7 @@
 //     our job: the unwelded mesh with normals and uv priced, keeping vertices (simplifyWithAttributes) or
 //     moving them (simplifyWithUpdate), as a chain;
 //  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
-//     diagonal, same seed and sample count for both);
+//     diagonal, same seed and sample count for both); then the same against simplifyWithUpdate's chain;
 //  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
 //     and mid-clip (the default: the middle frame of the first clip) simplification;
 //  4. the native build time of the same build (`cargo run --release --example clod_timing`, run from here).
@@ -141,7 +141,7 @@ for (const [name, bytes, path] of list) {
   const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
   const attributes = normalsAndUvs(character);
   const [, withAttributesMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, false));
-  const [, withUpdateMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, true));
+  const [updated, withUpdateMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, true));
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
   const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
@@ -180,6 +180,22 @@ for (const [name, bytes, path] of list) {
     const shown = ours.indices.length / 3 === theirs.length / 3 ? `${theirs.length / 3}` : `${ours.indices.length / 3} / ${theirs.length / 3}`;
     console.log(`| ${FRACTIONS[i] * 100}% | ${shown} | ${pct(dOurs.mean, diag)} | ${pct(dTheirs.mean, diag)} | ` +
       `${(dOurs.mean / dTheirs.mean).toFixed(2)} | ${pct(dOurs.hausdorff, diag)} | ${pct(dTheirs.hausdorff, diag)} |`);
+  }
+
+  // The same job: simplifyWithUpdate's levels, each at the count it reached, and ours at that count
+  // (or at our floor, when it is above).
+  console.log('| target | triangles (ours / update) | mean ours % | mean update % | hausdorff ours % | hausdorff update % |');
+  console.log('|---|---|---|---|---|---|');
+  for (let i = 0; i < counts.length; i++) {
+    const level = updated[i];
+    const theirCount = level.indices.length / 3;
+    const ours = clod.meshAt(theirCount);
+    const dOurs = api.surfaceDistance(positions, indices, ours.bindPositions, ours.indices, SAMPLES, SEED);
+    const dTheirs = api.surfaceDistance(positions, indices, level.positions, level.indices, SAMPLES, SEED);
+    const ourCount = ours.indices.length / 3;
+    const shown = ourCount === theirCount ? `${theirCount}` : `${ourCount} / ${theirCount}`;
+    console.log(`| ${FRACTIONS[i] * 100}% | ${shown} | ${pct(dOurs.mean, diag)} | ${pct(dTheirs.mean, diag)} | ` +
+      `${pct(dOurs.hausdorff, diag)} | ${pct(dTheirs.hausdorff, diag)} |`);
   }
   clod.free();
 
