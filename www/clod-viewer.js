@@ -24,6 +24,8 @@ const here = new URL('.', import.meta.url);
 const DEFAULT_SRC = new URL('assets/character.glb', here).href;
 const MODE_NAMES = { pop: 'popping', popping: 'popping', blend: 'alpha', alpha: 'alpha', morph: 'geomorph', geomorph: 'geomorph' };
 const METHOD_LABELS = { popping: 'popping', alpha: 'alpha-blending', geomorph: 'geomorphing' };
+// Labels of narrow views (the `modes` attribute's names).
+const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' };
 
 // Where each phase's progress lands on the overall 0..1 bar (the build dominates).
 const PHASES = { fetch: [0, 0.1], build: [0.1, 0.85], gpu: [0.85, 1], ready: [1, 1] };
@@ -111,7 +113,7 @@ clod-viewer { display: block; position: relative; aspect-ratio: 3 / 1; min-heigh
 clod-viewer > canvas { display: block; position: absolute; inset: 0; width: 100%; height: 100%;
   background: #8a96a6; touch-action: none; }
 clod-viewer > canvas:focus-visible { outline: 3px solid Highlight; outline-offset: -3px; }
-clod-viewer > .clod-label { position: absolute; padding: 0.15rem 0.45rem; font: 0.8rem system-ui, sans-serif; color: #fff;
+clod-viewer > .clod-label { position: absolute; box-sizing: border-box; padding: 0.15rem 0.45rem; font: 0.8rem system-ui, sans-serif; color: #fff;
   background: rgb(0 0 0 / 0.45); border-radius: 0 0 0.3rem 0; pointer-events: none; white-space: nowrap;
   overflow: hidden; text-overflow: ellipsis; font-variant-numeric: tabular-nums; }
 clod-viewer > .clod-progress { position: absolute; left: 10%; right: 10%; top: 50%; height: 0.5rem; margin: 0; }
@@ -245,10 +247,12 @@ export class ClodViewerElement extends HTMLElement {
       const x = label.offsetLeft * dpr;
       const y = label.offsetTop * dpr;
       const text = label.textContent;
+      // Within the label's box, which is at most its view's width: narrow views squeeze the text.
+      const boxWidth = Math.min(ctx.measureText(text).width + 12 * dpr, label.offsetWidth * dpr);
       ctx.fillStyle = 'rgb(0 0 0 / 0.45)';
-      ctx.fillRect(x, y, ctx.measureText(text).width + 12 * dpr, 20 * dpr);
+      ctx.fillRect(x, y, boxWidth, 20 * dpr);
       ctx.fillStyle = '#fff';
-      ctx.fillText(text, x + 6 * dpr, y + 3 * dpr);
+      ctx.fillText(text, x + 6 * dpr, y + 3 * dpr, Math.max(1, boxWidth - 12 * dpr));
     }
     return new Promise((resolve, reject) => canvas.toBlob((b) => (b ? resolve(b) : reject(new Error('PNG encoding failed'))), 'image/png'));
   }
@@ -523,8 +527,15 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.level = view.level;
       label.dataset.triangles = view.triangles;
       label.dataset.t = view.t.toFixed(3);
+      const triangles = view.triangles.toLocaleString();
       const t = view.t > 0 ? ` → ${view.level + 1}, t = ${view.t.toFixed(2)}` : '';
-      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
+      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${triangles} triangles`;
+      // A label wider than its view (three views in a narrow column) takes the short form; one
+      // still too wide ends in an ellipsis (CSS).
+      if (label.scrollWidth > label.clientWidth) {
+        const shortT = view.t > 0 ? `→${view.level + 1} (${view.t.toFixed(2)})` : '';
+        label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${shortT} · ${triangles} tris`;
+      }
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
     return state;

@@ -72,6 +72,30 @@ test('the docs example renders both embedded viewers, lazily, each with its own 
   for (const [id, c] of [['walk', walk.coverage], ['wave', wave.coverage]]) {
     c.forEach((f, i) => assert.ok(f > 0.02, `${id} view ${i} is blank (${f})`));
   }
+  // Three views in the article's column are about 250 px wide: every label stays inside its view
+  // and shows its whole text, the triangle count included (the short form where the long one
+  // does not fit).
+  for (const id of ['walk', 'wave']) {
+    // One frame drawn and its labels read in the same task, so both show the same levels.
+    const { state, labels } = await page.evaluate((id) => {
+      const el = document.getElementById(id);
+      const state = el.renderFrame(performance.now());
+      const canvas = el.querySelector('canvas');
+      const origin = canvas.getBoundingClientRect().left;
+      const labels = [...el.querySelectorAll('.clod-label')].filter((l) => !l.hidden).map((l) => {
+        const box = l.getBoundingClientRect();
+        return { text: l.textContent, left: box.left - origin, right: box.right - origin, clipped: l.scrollWidth > l.clientWidth };
+      });
+      return { state, labels: labels.map((l) => ({ ...l, dpr: canvas.width / canvas.clientWidth })) };
+    }, id);
+    assert.equal(labels.length, state.views.length);
+    labels.forEach((l, i) => {
+      const [x, , w] = state.views[i].rect;
+      assert.ok(!l.clipped, `${id} label ${i} is cut off: ${l.text}`);
+      assert.ok(l.left >= x / l.dpr - 0.5 && l.right <= (x + w) / l.dpr + 0.5, `${id} label ${i} leaves its view: ${JSON.stringify(l)}`);
+      assert.ok(l.text.includes(` ${state.views[i].triangles.toLocaleString('en-US')} `), `${id} label ${i}: ${l.text}`);
+    });
+  }
   const text = await page.locator('article').textContent();
   assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
 });
