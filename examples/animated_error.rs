@@ -189,8 +189,9 @@ fn report(
         let mut per_clip = vec![0.0f64; character.clips.len()];
         let mut sum = 0.0f64;
         let mut worst = 0.0f32;
+        // Each level in the bind pose (every skin matrix the identity), for `--detail`.
         let identity = vec![glam::Mat4::IDENTITY; frames[0].2.len()];
-        let static_per_level: Vec<f64> = (0..levels)
+        let static_per_level: Vec<f64> = (0..if detail { levels } else { 0 })
             .map(|i| animated_distance(&built, i, &identity, &mesh.positions, &mesh.indices).mean as f64)
             .collect();
         for (clip, _, skin, full_posed) in &frames {

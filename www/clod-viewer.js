@@ -527,15 +527,16 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.level = view.level;
       label.dataset.triangles = view.triangles;
       label.dataset.t = view.t.toFixed(3);
-      const triangles = view.triangles.toLocaleString();
       const t = view.t > 0 ? ` → ${view.level + 1}, t = ${view.t.toFixed(2)}` : '';
-      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${triangles} triangles`;
-      // A label wider than its view (three views in a narrow column) takes the short form; one
-      // still too wide ends in an ellipsis (CSS).
-      if (label.scrollWidth > label.clientWidth) {
-        const shortT = view.t > 0 ? `→${view.level + 1} (${view.t.toFixed(2)})` : '';
-        label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${shortT} · ${triangles} tris`;
-      }
+      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
+    });
+    // A label wider than its view (three views in a narrow column) takes the short form; one
+    // still too wide ends in an ellipsis (CSS). Written first, measured after: one layout.
+    this.#labels.forEach((label, i) => {
+      const view = state.views[i];
+      if (!view || label.scrollWidth <= label.clientWidth) return;
+      const t = view.t > 0 ? `→${view.level + 1} (${view.t.toFixed(2)})` : '';
+      label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris`;
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
     return state;
