@@ -88,10 +88,37 @@ fn walk(character: &Character, clod: &Clod) {
         assert!(indices.iter().all(|&i| (i as usize) < vertices.len()));
         assert!(vertices.iter().all(|&v| (v as usize) < pm.vertex_total()));
     }
+    // The slider's geomorph: a state paired with its ancestors in the coarsest state.
+    let last = pm.collapse_count();
+    let mut coarse_cursor = pm.cursor();
+    coarse_cursor.set_collapses(last);
+    let coarse = LodSource::from_cursor(character, clod, &coarse_cursor, last);
+    let coarse_vertices: std::collections::HashSet<_> =
+        coarse.vertices.iter().map(|v| bytemuck::bytes_of(&v.fine).to_vec()).collect();
     cursor.set_triangle_count(full / 2);
-    LodSource::from_cursor(character, clod, &cursor);
+    let fine = LodSource::from_cursor(character, clod, &cursor, last);
+    assert_eq!(fine.indices, LodSource::from_cursor(character, clod, &cursor, 0).indices, "one index buffer");
+    assert!(
+        fine.vertices.iter().all(|v| coarse_vertices.contains(bytemuck::bytes_of(&v.coarse))),
+        "every ancestor is a vertex of the coarser state"
+    );
     let source = LodSource::from_clod(character, clod);
     assert_eq!(source.levels.len(), clod.levels.len());
+    // Geomorphs that skip levels chain the ancestor tables; one step is the level's own pairs.
+    for i in 0..source.levels.len() - 1 {
+        // Bytes, not floats: a mutated input may carry NaN weights, which compare unequal.
+        let step = source.morph_vertices(i, i + 1).expect("the next level");
+        let own: &[u8] = bytemuck::cast_slice(&source.levels[i].vertices);
+        assert!(bytemuck::cast_slice::<_, u8>(&step) == own, "level {i}: one step is the level's own pairs");
+        let last = source.levels.len() - 1;
+        let skip = source.morph_vertices(i, last).expect("a coarser level");
+        for (k, pair) in skip.iter().enumerate() {
+            let a = clod.levels[i..last].iter().fold(k as u32, |v, level| level.ancestors[v as usize]);
+            let expected = &source.levels[last].vertices[a as usize].fine;
+            assert!(bytemuck::bytes_of(&pair.coarse) == bytemuck::bytes_of(expected), "level {i} vertex {k}");
+        }
+    }
+    assert_eq!(source.morph_vertices(1, 1), None);
     let skin = vec![Mat4::IDENTITY; character.skeleton.joints.len()];
     for level in 0..clod.levels.len() {
         assert_eq!(clod.level_skinned_positions(level, &skin).len(), clod.levels[level].vertices.len());

@@ -27,6 +27,11 @@ const METHOD_LABELS = { popping: 'popping', alpha: 'alpha-blending', geomorph: '
 // Labels of narrow views (the `modes` attribute's names).
 const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' };
 
+// What a reader sees when the browser gives the canvas neither a WebGPU nor a WebGL2 context
+// (the backends' own reports go to the console).
+const NO_GPU_MESSAGE = 'This browser could not start WebGPU or WebGL2 for the viewer. Turn on hardware ' +
+  'acceleration in the browser settings, or open the page in a current Chrome, Edge, Firefox or Safari.';
+
 // Where each phase's progress lands on the overall 0..1 bar (the build dominates).
 const PHASES = { fetch: [0, 0.1], build: [0.1, 0.85], gpu: [0.85, 1], ready: [1, 1] };
 
@@ -162,6 +167,7 @@ export class ClodViewerElement extends HTMLElement {
   #pointers = new Map();
   #lastState = null;
   #loadId = 0;
+  #ignored = [];
 
   connectedCallback() {
     if (!this.#canvas) this.#buildDom();
@@ -209,17 +215,19 @@ export class ClodViewerElement extends HTMLElement {
   /** Changes viewer settings (see the README's list of keys); throws on an unknown key or bad value. */
   setState(state) { this.#requireViewer().setState(state); this.#schedule(); }
   /**
-   * What the views show: levels, triangles, t, backend, … (see the README). While a readback or a
-   * pop-spike measurement holds the viewer, the last state read.
+   * What the views show: levels, triangles, `level → to` and `t` of the transition every view
+   * shows, backend, … (see the README). While a readback or a pop-spike measurement holds the
+   * viewer, the last state read.
    */
   state() {
-    try {
-      this.#lastState = this.#requireViewer().state();
-    } catch (e) {
-      if (!this.#lastState || !String(e.message).includes('busy')) throw e;
-    }
+    this.#lastState = this.#requireViewer().state() ?? this.#lastState;
     return this.#lastState;
   }
+  /**
+   * Attribute values the model shown cannot take (a clip it does not have, say), each with the
+   * reason: they were ignored, the rest applied.
+   */
+  get ignoredSettings() { return this.#ignored; }
   /** Draws one frame at `nowMs` (for `manual-frames`) and returns the state. */
   renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
   /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */
@@ -328,12 +336,13 @@ export class ClodViewerElement extends HTMLElement {
       } catch (e) {
         // WebGPU has an adapter but no usable device (or the surface fails): the WebGL2 build.
         // The LOD bytes are the same whichever build made them.
-        if (!fallbacks.length || !e.gpu) throw e;
+        if (!e.noGpu) throw e;
+        if (!fallbacks.length) throw new Error(NO_GPU_MESSAGE);
         const fallback = await loadBuild(fallbacks[0]);
         try {
           return await this.#createViewer(fallback.module, fallbacks[0], source, built, id);
         } catch (e2) {
-          throw new Error(`Neither WebGPU nor WebGL2 works here (${e.message}; ${e2.message})`);
+          throw e2.noGpu ? new Error(NO_GPU_MESSAGE) : e2;
         }
       }
     })();
@@ -414,20 +423,21 @@ export class ClodViewerElement extends HTMLElement {
     try {
       viewer = await module.Viewer.create(canvas, source.bytes, options);
     } catch (e) {
-      // The file was imported and built in the worker already: what fails here is the GPU.
-      throw Object.assign(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), { gpu: Boolean(built) });
+      // `code: "no-gpu"`: this backend has no GPU here (another may); the details are in the console.
+      throw Object.assign(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), { noGpu: e?.code === 'no-gpu' });
     }
     if (this.#loadId !== id) {
       viewer.free();
       throw Object.assign(new Error(`${source.name}: superseded by a newer load`), { superseded: true });
     }
     this.#reportProgress('gpu', 0.5);
-    try {
-      viewer.setState(this.#initialState());
-    } catch (e) {
-      viewer.free();
-      throw new Error(`Could not show ${source.name}: ${e.message ?? e}`);
+    // Each attribute on its own: a value this model cannot take (say a clip of the previous
+    // model, kept in the page's URL) is ignored and reported, never fatal.
+    const ignored = [];
+    for (const [name, state] of this.#initialState()) {
+      try { viewer.setState(state()); } catch (e) { ignored.push(`${name}: ${e.message ?? e}`); }
     }
+    this.#ignored = ignored;
     this.#viewer?.free();
     this.#viewer = viewer;
     this.#lastState = null;
@@ -443,12 +453,13 @@ export class ClodViewerElement extends HTMLElement {
     return state;
   }
 
+  // `[attribute, () => setState object]` pairs for the attributes set (a bad `modes` throws).
   #initialState() {
-    const state = { paused: !this.hasAttribute('autoplay') };
+    const pairs = [['autoplay', () => ({ paused: !this.hasAttribute('autoplay') })]];
     for (const name of ['clip', 'modes', 'variant', 'tolerance']) {
-      if (this.hasAttribute(name)) Object.assign(state, this.#attributeState(name));
+      if (this.hasAttribute(name)) pairs.push([name, () => this.#attributeState(name)]);
     }
-    return state;
+    return pairs;
   }
 
   #attributeState(name) {
@@ -506,8 +517,7 @@ export class ClodViewerElement extends HTMLElement {
       this.#viewer.frame(now);
       this.#updateLabels();
     } catch (e) {
-      // "viewer busy": a readback is running; draw again next frame.
-      if (!String(e.message).includes('busy')) this.#fail(e);
+      this.#fail(e);
     }
     this.#schedule();
   }
@@ -526,8 +536,9 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.method = view.method;
       label.dataset.level = view.level;
       label.dataset.triangles = view.triangles;
+      label.dataset.to = view.to;
       label.dataset.t = view.t.toFixed(3);
-      const t = view.t > 0 ? ` → ${view.level + 1}, t = ${view.t.toFixed(2)}` : '';
+      const t = view.to !== view.level ? ` → ${view.to}, t = ${view.t.toFixed(2)}` : '';
       label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
     });
     // A label wider than its view (three views in a narrow column) takes the short form; one
@@ -535,7 +546,7 @@ export class ClodViewerElement extends HTMLElement {
     this.#labels.forEach((label, i) => {
       const view = state.views[i];
       if (!view || label.scrollWidth <= label.clientWidth) return;
-      const t = view.t > 0 ? `→${view.level + 1} (${view.t.toFixed(2)})` : '';
+      const t = view.to !== view.level ? `→${view.to} (${view.t.toFixed(2)})` : '';
       label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris`;
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
@@ -555,12 +566,7 @@ export class ClodViewerElement extends HTMLElement {
     if (update.pan) next.pan = [s.pan[0] + update.pan[0], s.pan[1] + update.pan[1]];
     if (update.zoom) { next.distanceMode = 'manual'; next.distance = Math.min(100, Math.max(0.2, s.distance * update.zoom)); }
     if (update.reset) next.resetCamera = true;
-    try {
-      this.setState(next);
-    } catch (e) {
-      if (String(e.message).includes('busy')) return; // a measurement holds the viewer: drop the gesture
-      throw e;
-    }
+    this.setState(next); // queued by the viewer while a measurement holds it
     this.dispatchEvent(new CustomEvent('camerachange'));
   }
 

@@ -20,7 +20,6 @@ const $ = (id) => document.getElementById(id);
 let loaded = false;
 let clips = [];
 let spike = null;
-let transitionSeen = false;
 let measuring = false;
 
 // --- start-up from the URL ----------------------------------------------------------------------
@@ -48,11 +47,10 @@ viewer.addEventListener('load', (e) => {
   const first = !loaded;
   loaded = true;
   spike = null;
-  transitionSeen = false;
   setupControls(state, first);
-  if (first) applyUrlState();
   status.textContent = `${state.name}: ${state.triangles.toLocaleString()} triangles, ${state.joints} joints, ` +
     `drawn with ${state.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}.`;
+  if (first) applyUrlState();
   html.dataset.state = 'ready';
   showStats();
 });
@@ -66,15 +64,19 @@ viewer.addEventListener('error', (e) => {
   html.dataset.lastError = e.detail.message;
 });
 
+// Each URL value on its own: one that does not fit the model shown is ignored, and said so.
 function applyUrlState() {
-  const state = {};
-  if (params.has('t')) { state.time = Number(params.get('t')); state.paused = true; }
-  if (params.has('distance')) { state.distanceMode = 'manual'; state.distance = Number(params.get('distance')); }
-  if (params.has('lod')) state.continuousTriangles = Number(params.get('lod'));
-  try {
-    viewer.setState(state);
-  } catch (e) {
-    status.textContent = `Ignored a URL parameter: ${e.message}`;
+  const updates = [];
+  if (params.has('t')) updates.push(['t', { time: Number(params.get('t')), paused: true }]);
+  if (params.has('distance')) updates.push(['distance', { distanceMode: 'manual', distance: Number(params.get('distance')) }]);
+  if (params.has('lod')) updates.push(['lod', { continuousTriangles: Number(params.get('lod')) }]);
+  const ignored = [...(viewer.ignoredSettings ?? [])];
+  for (const [name, state] of updates) {
+    try { viewer.setState(state); } catch (e) { ignored.push(`${name}: ${e.message}`); }
+  }
+  if (ignored.length) {
+    status.textContent += ` Ignored from the URL: ${ignored.join('; ')}.`;
+    writeUrl(); // the link now says what is shown
   }
   syncControls(viewer.state());
 }
@@ -146,6 +148,7 @@ function wireControls() {
     set({ duration: Number(e.target.value) });
   });
   $('zone').addEventListener('input', (e) => set({ zone: Number(e.target.value) }));
+  $('transition-speed').addEventListener('change', (e) => set({ transitionSpeed: Number(e.target.value) }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
   $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
   const continuous = () => {
@@ -220,14 +223,14 @@ function showStats() {
   if (!loaded) return;
   const s = viewer.state();
   const levels = s.levels.map((l, i) => `${i}: ${l.triangles.toLocaleString()}`).join(' · ');
-  const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()} (level ${v.level}${v.t > 0 ? `, t ${v.t.toFixed(2)}` : ''})`).join(' · ');
+  const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()} (level ${v.level}${v.to !== v.level ? ` → ${v.to}, t ${v.t.toFixed(2)}` : ''})`).join(' · ');
   const rows = [
     ['Drawn', views],
     ['Levels', levels],
     ['LOD build', `${Math.round(s.buildMs)} ms${s.builtOffMainThread ? ' (worker)' : ''}`],
     ['Frame', viewer.frameMs ? `${viewer.frameMs.toFixed(1)} ms` : '–'],
     ['Backend', [s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2', s.adapter, `MSAA ${s.msaa}×`].filter(Boolean).join(' · ')],
-    ['Pop spike', spike ? formatSpike(spike) : transitionSeen || measuring ? 'measuring…' : 'after the first transition'],
+    ['Pop spike', spike ? formatSpike(spike) : measuring ? 'measuring…' : 'press “Measure pop spike” (the views pause for a few seconds)'],
   ];
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
   stats.replaceChildren(...rows.flatMap(([k, v]) => [
@@ -239,10 +242,6 @@ function showStats() {
   if (clip && clip.duration > 0 && document.activeElement !== $('scrub')) {
     $('scrub').value = (s.animTime % clip.duration) / clip.duration;
     $('scrub-out').textContent = `${(s.animTime % clip.duration).toFixed(2)} s`;
-  }
-  if (!transitionSeen && s.views.some((v) => v.t > 0)) {
-    transitionSeen = true;
-    if (!testMode) setTimeout(measureSpike, 1000);
   }
 }
 

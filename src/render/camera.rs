@@ -79,17 +79,23 @@ pub fn framing_distance(radius: f32) -> f32 {
     radius / (FOVY * 0.5).sin()
 }
 
+/// Framing distance for a view of `aspect` (width / height): the sphere fills the view's height,
+/// or its width when the view is narrower than tall, so it is whole in the view either way.
+pub fn framing_distance_for(radius: f32, aspect: f32) -> f32 {
+    let half_height = FOVY * 0.5;
+    let half_width = (aspect.max(1e-3) * half_height.tan()).atan();
+    radius / half_height.min(half_width).sin()
+}
+
 /// The distances an automatic dolly sweeps between, from the levels' switch distances (`switch[k]`:
 /// where level `k` takes over, ascending, the same units as `framing`).
 ///
-/// It starts just before the second level's switch, so the finest level is seen, but never
-/// nearer than half the framing distance (closer, the character overflows the view and the
-/// camera enters the body) nor farther than the framing distance; it ends past the coarsest
-/// switch (30 % beyond, so the last level is seen settled), at least twice `near` and at most 100
-/// framing distances (beyond, the character is a few pixels tall). No switches: framed to twice that.
+/// It starts at the framing distance, so the first frame shows the whole character (nearer, its
+/// head and feet leave the view); it ends past the coarsest switch (30 % beyond, so the last level
+/// is seen settled), at least twice `near` and at most 100 framing distances (beyond, the
+/// character is a few pixels tall). No switches: framed to twice that.
 pub fn dolly_range(framing: f32, switch: &[f32]) -> (f32, f32) {
-    let before_second = switch.get(1).filter(|d| d.is_finite()).map_or(framing, |d| 0.8 * d);
-    let near = before_second.clamp(0.5 * framing, framing);
+    let near = framing;
     let last = switch.last().copied().filter(|d| d.is_finite()).unwrap_or(0.0);
     let far = (1.3 * last).clamp(2.0 * near, 100.0 * framing);
     (near, far)
@@ -117,14 +123,11 @@ mod tests {
 
     #[test]
     fn dolly_range_spans_the_switches_within_sensible_distances() {
-        // Switches from a tenth to three framing distances: from half framed to 3.9 framed.
+        // Switches from a tenth to three framing distances: from framed to 3.9 framed.
         let (near, far) = dolly_range(2.0, &[0.0, 0.2, 1.0, 6.0]);
-        assert!(near == 1.0 && (far - 7.8).abs() < 1e-5, "{near} {far}");
-        // Switches between 0.8 and 1.5 framed: near the second switch, far at least twice near.
-        let (near, far) = dolly_range(1.0, &[0.0, 0.9, 1.5]);
-        assert!((near - 0.72).abs() < 1e-6 && (far - 1.95).abs() < 1e-6, "{near} {far}");
+        assert!(near == 2.0 && (far - 7.8).abs() < 1e-5, "{near} {far}");
         // A last switch close to near: far is still twice near.
-        assert_eq!(dolly_range(1.0, &[0.0, 1.0, 1.2]), (0.8, 1.6));
+        assert_eq!(dolly_range(1.0, &[0.0, 1.0, 1.2]), (1.0, 2.0));
         // Far switches are capped at 100 framed; no switches at all give framed to twice that.
         assert_eq!(dolly_range(1.0, &[0.0, 5.0, 500.0]), (1.0, 100.0));
         assert_eq!(dolly_range(1.0, &[]), (1.0, 2.0));
@@ -193,6 +196,16 @@ mod tests {
         let d = framing_distance(radius);
         // The tangent from the eye to the sphere makes half the field of view with the axis.
         assert!(((radius / d).asin() - FOVY / 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_narrow_view_frames_by_its_width() {
+        let wide = framing_distance_for(1.0, 2.0);
+        assert!((wide - framing_distance(1.0)).abs() < 1e-6, "wide views frame by their height");
+        let narrow = framing_distance_for(1.0, 0.5);
+        // The tangent from the eye makes half the horizontal field of view with the axis.
+        let half_width = (0.5 * (FOVY * 0.5).tan()).atan();
+        assert!(((1.0 / narrow).asin() - half_width).abs() < 1e-5 && narrow > wide);
     }
 
     #[test]

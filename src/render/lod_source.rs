@@ -82,6 +82,9 @@ pub struct LevelData {
     pub ranges: Vec<PrimitiveRange>,
     /// Geometric error in model units (0 for the full mesh).
     pub error: f32,
+    /// For each vertex, its ancestor's index in the next coarser level (empty for the coarsest):
+    /// chained, they join this level to any coarser one.
+    pub next: Vec<u32>,
 }
 
 impl LevelData {
@@ -134,27 +137,63 @@ impl LodSource {
                     None => level.vertices.clone(),
                 };
                 let materials = materials_of(&level.vertices, &level.indices);
-                build_level(
+                let mut data = build_level(
                     &attributes,
                     &level.vertices,
                     &ancestor_ids,
                     &level.indices,
                     &materials,
                     level.error,
-                )
+                );
+                data.next = level.ancestors.clone();
+                data
             })
             .collect();
         Self { levels }
     }
 
-    /// The progressive mesh at a cursor's position as one level (its own ancestor): the
-    /// continuous LOD slider's mesh.
-    pub fn from_cursor(character: &Character, clod: &Clod, cursor: &PmCursor) -> LevelData {
+    /// The vertices of level `fine` paired with their ancestors in level `coarse` (any coarser
+    /// level: the ancestor tables are chained), for a geomorph that skips levels. `None` unless
+    /// `fine < coarse < levels`.
+    pub fn morph_vertices(&self, fine: usize, coarse: usize) -> Option<Vec<GeomorphVertexRaw>> {
+        if fine >= coarse || coarse >= self.levels.len() {
+            return None;
+        }
+        let chain = &self.levels[fine..coarse];
+        let target = &self.levels[coarse].vertices;
+        let vertices = (0..self.levels[fine].vertices.len())
+            .map(|k| {
+                let a = chain.iter().fold(k as u32, |v, level| level.next[v as usize]);
+                GeomorphVertexRaw {
+                    fine: self.levels[fine].vertices[k].fine,
+                    coarse: target[a as usize].fine,
+                }
+            })
+            .collect();
+        Some(vertices)
+    }
+
+    /// The progressive mesh at a cursor's position as one level, each vertex paired with its
+    /// ancestor after `coarse_collapses` collapses (itself when that is not coarser): the
+    /// continuous LOD slider's meshes, which geomorph from one state to another (Hoppe 1996
+    /// §3.2). Vertex order and triangles depend on the cursor alone, so the same state paired
+    /// with different ancestors shares its index buffer.
+    pub fn from_cursor(
+        character: &Character,
+        clod: &Clod,
+        cursor: &PmCursor,
+        coarse_collapses: usize,
+    ) -> LevelData {
         let apm = &clod.apm;
         let attributes = Attributes::of_apm(apm);
         let materials = clod_materials(character, clod)(cursor.vertices(), cursor.indices());
         let error = apm.pm.distance_after(cursor.level());
-        build_level(&attributes, cursor.vertices(), cursor.vertices(), cursor.indices(), &materials, error)
+        let ancestors: Vec<u32> = if coarse_collapses > cursor.level() {
+            cursor.vertices().iter().map(|&v| apm.pm.ancestor_at(v, coarse_collapses)).collect()
+        } else {
+            cursor.vertices().to_vec()
+        };
+        build_level(&attributes, cursor.vertices(), &ancestors, cursor.indices(), &materials, error)
     }
 
     /// Geometric error of every level, finest first.
@@ -257,7 +296,7 @@ pub fn build_level(
         }
         sorted.extend_from_slice(&indices[3 * t..3 * t + 3]);
     }
-    LevelData { vertices, indices: sorted, ranges, error }
+    LevelData { vertices, indices: sorted, ranges, error, next: Vec::new() }
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ pub mod plan;
 pub mod pop_spike;
 pub mod schedule;
 pub mod uniforms;
+pub mod viewer;
 
 #[cfg(feature = "web")]
 pub mod gpu;

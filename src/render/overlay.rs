@@ -9,6 +9,7 @@
 
 use glam::Mat4;
 
+use super::plan::Morph;
 use crate::skeleton::Skeleton;
 
 /// What is drawn over the shaded views.
@@ -41,15 +42,15 @@ const LEVEL_COLORS: [[f32; 3]; 8] = [
 /// little enough that lighting still shows the shape.
 pub const TINT_STRENGTH: f32 = 0.7;
 
-/// The tint of a draw of level `level` morphing towards `level + 1` by `morph_t` (`None`: no
-/// morph): linear RGB and strength, all zero when the overlay is not [`Overlay::Levels`].
-pub fn draw_tint(overlay: Overlay, level: usize, morph_t: Option<f32>) -> [f32; 4] {
+/// The tint of a draw of level `level` morphing towards its ancestors in `morph.coarse` by
+/// `morph.t` (`None`: no morph): linear RGB and strength, all zero when the overlay is not [`Overlay::Levels`].
+pub fn draw_tint(overlay: Overlay, level: usize, morph: Option<Morph>) -> [f32; 4] {
     if overlay != Overlay::Levels {
         return [0.0; 4];
     }
+    let (coarse_level, t) = morph.map_or((level, 0.0), |m| (m.coarse, m.t.clamp(0.0, 1.0)));
     let fine = LEVEL_COLORS[level % LEVEL_COLORS.len()];
-    let coarse = LEVEL_COLORS[(level + 1) % LEVEL_COLORS.len()];
-    let t = morph_t.unwrap_or(0.0).clamp(0.0, 1.0);
+    let coarse = LEVEL_COLORS[coarse_level % LEVEL_COLORS.len()];
     let mix = |c: usize| fine[c] * (1.0 - t) + coarse[c] * t;
     [mix(0), mix(1), mix(2), TINT_STRENGTH]
 }
@@ -119,15 +120,15 @@ mod tests {
     #[test]
     fn level_tints_differ_and_geomorphs_mix_them() {
         assert_eq!(draw_tint(Overlay::None, 2, None), [0.0; 4]);
-        assert_eq!(draw_tint(Overlay::Wireframe, 2, Some(0.5)), [0.0; 4]);
+        assert_eq!(draw_tint(Overlay::Wireframe, 2, Some(Morph { coarse: 3, t: 0.5 })), [0.0; 4]);
         for level in 0..LEVEL_COLORS.len() {
             assert_ne!(draw_tint(Overlay::Levels, level, None), draw_tint(Overlay::Levels, level + 1, None));
         }
         let fine = draw_tint(Overlay::Levels, 1, None);
         let coarse = draw_tint(Overlay::Levels, 2, None);
-        assert_eq!(draw_tint(Overlay::Levels, 1, Some(0.0)), fine);
-        assert_eq!(draw_tint(Overlay::Levels, 1, Some(1.0)), coarse);
-        let half = draw_tint(Overlay::Levels, 1, Some(0.5));
+        assert_eq!(draw_tint(Overlay::Levels, 1, Some(Morph { coarse: 2, t: 0.0 })), fine);
+        assert_eq!(draw_tint(Overlay::Levels, 1, Some(Morph { coarse: 2, t: 1.0 })), coarse);
+        let half = draw_tint(Overlay::Levels, 1, Some(Morph { coarse: 2, t: 0.5 }));
         for c in 0..3 {
             assert!((half[c] - 0.5 * (fine[c] + coarse[c])).abs() < 1e-6);
         }

@@ -5,13 +5,19 @@
 //! the same call); `viewer.state()` reports what each view shows for the labels.
 //!
 //! Times are milliseconds from JavaScript (`performance.now()`), seconds inside. Distances given
-//! to and reported by the page are multiples of the *framing distance* (the character's bounding
-//! sphere fills the view's height at 1).
+//! to and reported by the page are multiples of the *framing distance* (the character's animated
+//! bounding sphere fills the view at 1).
+//!
+//! The application model is [`ViewerModel`] (pure, tested natively); this module only carries
+//! JavaScript values in and out and hands the model's plans to the renderer. No call throws
+//! "busy" at the page: while `readPixels` or `measurePopSpike` holds the viewer, `setState` and
+//! `resize` are queued and applied at the next frame, `frame` draws nothing, `state` returns the
+//! last state read, and the other asynchronous calls wait their turn.
 
 mod pop_spike;
 mod settings;
 
-use std::cell::RefCell;
+use std::cell::{RefCell, RefMut};
 use std::rc::Rc;
 
 use glam::{Mat4, Vec3};
@@ -21,24 +27,29 @@ use wasm_bindgen::JsCast;
 use crate::character::Character;
 use crate::clod::{self, Clod, ClodOptions};
 use crate::import;
-use crate::render::camera::{self, OrbitCamera, FOVY};
+use crate::render::camera::OrbitCamera;
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
-use crate::render::layout::{layout, Layout};
 use crate::render::lod_source::LodSource;
 use crate::render::overlay::bone_segments;
-use crate::render::plan::{plan_view, Method, ViewPlan};
-use crate::render::schedule::{self, Schedule};
 use crate::render::uniforms::CameraRaw;
-use settings::{DistanceMode, Settings};
-
-/// Longest step of the clocks per frame, seconds: a tab that was hidden for a minute resumes
-/// where it was instead of jumping.
-const MAX_STEP: f64 = 0.1;
+use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode, Update};
+use crate::render::viewer::{animated_sphere, ViewerModel};
 
 /// One viewer on one canvas.
 #[wasm_bindgen]
 pub struct Viewer {
     inner: Rc<RefCell<Inner>>,
+    /// What arrived while a measurement or readback held `inner`.
+    queue: Rc<RefCell<Queue>>,
+}
+
+/// Calls that found the viewer busy, applied at the next frame, and the last state read.
+#[derive(Default)]
+struct Queue {
+    updates: Vec<Update>,
+    size: Option<(u32, u32)>,
+    clips: Vec<String>,
+    last_state: Option<String>,
 }
 
 struct Inner {
@@ -46,18 +57,10 @@ struct Inner {
     clod: Option<Clod>,
     lod: LodSource,
     renderer: Renderer,
-    settings: Settings,
-    schedule: Schedule,
-    /// Animation clock, seconds.
-    anim_time: f64,
-    /// Dolly clock, seconds (runs while the animation is paused, so a paused pose can be dollied).
-    dolly_time: f64,
+    model: ViewerModel,
     last_now_ms: Option<f64>,
-    camera: OrbitCamera,
-    framing: f32,
-    distance: f32,
-    layout: Layout,
-    plans: [ViewPlan; 3],
+    /// The slider's `(finer, coarser)` states the renderer holds as its continuous levels.
+    continuous_uploaded: Option<(usize, usize)>,
     camera_raw: CameraRaw,
     skin: Vec<Mat4>,
     /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
@@ -86,19 +89,25 @@ impl Viewer {
     ///
     /// Rejects with an `Error` naming the problem: a file the importer refuses, LOD bytes that do
     /// not belong to this file, no adapter or device for the backend, too many joints, an
-    /// undecodable texture.
+    /// undecodable texture. When the browser gives this backend no GPU at all (no adapter,
+    /// context or device) the error's `code` is `"no-gpu"`, so the page can try another backend
+    /// without reading the message; the backend's own report goes to the console.
     pub async fn create(
         canvas: web_sys::HtmlCanvasElement,
         bytes: Vec<u8>,
         options: JsValue,
-    ) -> Result<Viewer, JsError> {
+    ) -> Result<Viewer, JsValue> {
         let backend = settings::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
         let choice = match backend.as_str() {
             "webgpu" => BackendChoice::WebGpu,
             "webgl2" if cfg!(feature = "webgl") => BackendChoice::WebGl2,
-            "webgl2" => return Err(JsError::new("this build has no WebGL2 backend; load the webgl build")),
+            "webgl2" => {
+                return Err(JsError::new("this build has no WebGL2 backend; load the webgl build").into())
+            }
             other => {
-                return Err(JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\"")))
+                return Err(
+                    JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\"")).into()
+                )
             }
         };
         let resolve = settings::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
@@ -136,34 +145,25 @@ impl Viewer {
             Some(ms) if built_off_main_thread => ms,
             _ => js_sys::Date::now() - started,
         };
-        let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(js_error)?;
-        let (center, radius) = rest_sphere(&character);
-        let framing = camera::framing_distance(radius);
-        let camera = OrbitCamera {
-            target: center,
-            radius,
-            distance: framing,
-            yaw: 0.0,
-            pitch: camera::DEFAULT_PITCH,
-            pan: glam::Vec2::ZERO,
-        };
+        let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(|e| {
+            let error = js_sys::Error::new(&e.to_string());
+            if e.is_unavailable() {
+                let _ = js_sys::Reflect::set(&error, &"code".into(), &"no-gpu".into());
+                web_sys::console::warn_1(&format!("clod-viewer: {e}: {}", e.detail()).into());
+            }
+            JsValue::from(error)
+        })?;
         let (w, h) = renderer.size();
-        let empty = ViewPlan { draws: Vec::new(), level: 0, t: 0.0 };
+        let model = ViewerModel::new(animated_sphere(&character), lod.errors(), w, h);
+        let clips = character.clips.iter().map(|c| c.name.clone()).collect();
         let inner = Inner {
             character,
             clod,
             lod,
             renderer,
-            settings: Settings::default(),
-            schedule: Schedule::FINEST,
-            anim_time: 0.0,
-            dolly_time: 0.0,
+            model,
             last_now_ms: None,
-            camera,
-            framing,
-            distance: framing,
-            layout: layout(w, h, 3),
-            plans: [empty.clone(), empty.clone(), empty],
+            continuous_uploaded: None,
             camera_raw: CameraRaw::zeroed(),
             skin: Vec::new(),
             bones: Vec::new(),
@@ -173,30 +173,25 @@ impl Viewer {
             build_ms,
             built_off_main_thread,
         };
-        Ok(Viewer { inner: Rc::new(RefCell::new(inner)) })
+        let queue = Queue { clips, ..Queue::default() };
+        Ok(Viewer { inner: Rc::new(RefCell::new(inner)), queue: Rc::new(RefCell::new(queue)) })
     }
 
-    /// Advances the clocks to `now_ms` (milliseconds, e.g. `performance.now()`) and draws.
-    ///
-    /// Throws only when called while `readPixels` or `measurePopSpike` is still running.
-    pub fn frame(&self, now_ms: f64) -> Result<(), JsError> {
-        let mut inner = self
-            .inner
-            .try_borrow_mut()
-            .map_err(|_| JsError::new("viewer busy (readPixels or measurePopSpike running)"))?;
+    /// Advances the clocks to `now_ms` (milliseconds, e.g. `performance.now()`) and draws. While
+    /// `readPixels` or `measurePopSpike` holds the viewer it draws nothing (they draw their own
+    /// frames); the clocks catch up at the next frame, at most [`crate::render::viewer::MAX_STEP`].
+    pub fn frame(&self, now_ms: f64) {
+        let Some(mut inner) = self.lock() else { return };
         inner.advance(now_ms);
         inner.draw();
-        Ok(())
     }
 
     /// Resizes the drawing buffer (framebuffer pixels: CSS size × devicePixelRatio).
-    pub fn resize(&self, width: u32, height: u32) -> Result<(), JsError> {
-        let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
-        inner.renderer.resize(width, height);
-        let (w, h) = inner.renderer.size();
-        let count = inner.settings.view_count;
-        inner.layout = layout(w, h, count);
-        Ok(())
+    pub fn resize(&self, width: u32, height: u32) {
+        match self.inner.try_borrow_mut() {
+            Ok(mut inner) => inner.resize(width, height),
+            Err(_) => self.queue.borrow_mut().size = Some((width, height)),
+        }
     }
 
     /// Changes settings; unknown keys are an error (a typo should not pass silently).
@@ -211,45 +206,50 @@ impl Viewer {
     /// `"popping"|"alpha"|"geomorph"`: the views, in order), `continuousTriangles` (number, or null
     /// for off), `overlay` (`"none"|"wireframe"|"levels"|"skeleton"`: triangle edges, a colour per level,
     /// or the bones of the current pose, on every view).
+    /// `transitionSpeed` (0.01–1: slow motion of the transitions alone).
+    ///
+    /// # Errors
+    /// A message naming the first unknown key or bad value; nothing is changed then.
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
-        let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
-        let clips: Vec<String> = inner.character.clips.iter().map(|c| c.name.clone()).collect();
+        let clips = self.queue.borrow().clips.clone();
         let update = settings::parse_update(&state, &clips).map_err(|e| JsError::new(&e))?;
-        if let Some(time) = update.time {
-            inner.anim_time = time;
+        match self.inner.try_borrow_mut() {
+            Ok(mut inner) => inner.apply(update),
+            Err(_) => self.queue.borrow_mut().updates.push(update),
         }
-        if let Some(triangles) = update.continuous_triangles {
-            inner.set_continuous(triangles);
-        }
-        update.apply(&mut inner.settings);
-        let (w, h) = inner.renderer.size();
-        let count = inner.settings.view_count;
-        inner.layout = layout(w, h, count);
         Ok(())
     }
 
     /// What the views show, for the page: `{ backend, adapter, levels: [{triangles, error}],
-    /// switch (each level's switch distance, × framing), selected, coordinate, distance (× framing),
-    /// stacked, views: [{method, level, triangles, t, rect}], frames, errors, warnings, ... }`
-    /// (see `Inner::state_json`).
+    /// switch (each level's switch distance, × framing), selected, distance (× framing),
+    /// stacked, views: [{method, level, to, t, triangles, rect}], frames, errors, warnings, ... }`
+    /// (see `Inner::state_json`). Every view reports the same `level`, `to` and `t`: the
+    /// transition they all show. While a measurement holds the viewer: the last state read.
     pub fn state(&self) -> Result<JsValue, JsError> {
-        let mut inner = self.inner.try_borrow_mut().map_err(|_| JsError::new("viewer busy"))?;
-        let errors = inner.renderer.take_errors();
-        inner.errors.extend(errors);
-        js_sys::JSON::parse(&inner.state_json()).map_err(|_| JsError::new("state is not JSON"))
+        let json = match self.lock() {
+            Some(mut inner) => {
+                let errors = inner.renderer.take_errors();
+                inner.errors.extend(errors);
+                let json = inner.state_json();
+                self.queue.borrow_mut().last_state = Some(json.clone());
+                json
+            }
+            None => self.queue.borrow().last_state.clone().unwrap_or_else(|| "null".into()),
+        };
+        js_sys::JSON::parse(&json).map_err(|_| JsError::new("state is not JSON"))
     }
 
     /// Draws the current frame again offscreen and resolves to `{ width, height, data }` (RGBA8,
-    /// sRGB, top row first). Nothing else may be called on the viewer until it resolves.
+    /// sRGB, top row first). Waits for a running measurement first.
     #[wasm_bindgen(js_name = readPixels)]
-    // The borrow is held across the readback on purpose: it keeps `frame` and the setters out
-    // (they get a "busy" error from `try_borrow_mut`) until the copy is read.
+    // The borrow is held across the readback on purpose: `frame` draws nothing and the setters
+    // queue until the copy is read.
     #[allow(clippy::await_holding_refcell_ref)]
     pub fn read_pixels(&self) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
-            let guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let guard = wait_for(&inner).await;
             let input = guard.frame_input();
             let pixels =
                 guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
@@ -270,7 +270,7 @@ impl Viewer {
     pub fn texture_levels(&self, material: usize) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
-            let guard = inner.try_borrow().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let guard = wait_for(&inner).await;
             let levels = guard
                 .renderer
                 .texture_levels(material)
@@ -294,7 +294,7 @@ impl Viewer {
     pub fn finish(&self) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
-            let guard = inner.try_borrow().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let guard = wait_for(&inner).await;
             guard.renderer.finish().await.map_err(|e| JsValue::from_str(&e.to_string()))?;
             Ok(JsValue::UNDEFINED)
         })
@@ -303,48 +303,63 @@ impl Viewer {
 
 use bytemuck::Zeroable;
 
+impl Viewer {
+    /// The viewer with the calls queued while it was busy applied, or `None` while busy.
+    fn lock(&self) -> Option<RefMut<'_, Inner>> {
+        let mut inner = self.inner.try_borrow_mut().ok()?;
+        let mut queue = self.queue.borrow_mut();
+        if let Some((w, h)) = queue.size.take() {
+            inner.resize(w, h);
+        }
+        for update in queue.updates.drain(..) {
+            inner.apply(update);
+        }
+        Some(inner)
+    }
+}
+
+/// Waits (yielding to the browser) until nothing else holds the viewer.
+async fn wait_for(inner: &Rc<RefCell<Inner>>) -> RefMut<'_, Inner> {
+    loop {
+        if let Ok(guard) = inner.try_borrow_mut() {
+            return guard;
+        }
+        next_task().await;
+    }
+}
+
 impl Inner {
+    fn resize(&mut self, width: u32, height: u32) {
+        self.renderer.resize(width, height);
+        let (w, h) = self.renderer.size();
+        self.model.resize(w, h);
+    }
+
+    /// Applies an update; a continuous triangle count is snapped to the progressive mesh's
+    /// state with at most that many triangles (no chain: the slider stays off).
+    fn apply(&mut self, mut update: Update) {
+        if let Some(Some(requested)) = update.continuous_triangles {
+            update.continuous_triangles = Some(self.clod.as_ref().map(|clod| {
+                let mut cursor = clod.apm.pm.cursor();
+                cursor.set_triangle_count(requested as usize);
+                (cursor.indices().len() / 3) as u32
+            }));
+        }
+        self.model.apply(&update);
+    }
+
     fn advance(&mut self, now_ms: f64) {
         let dt = match self.last_now_ms {
-            Some(last) => ((now_ms - last) / 1000.0).clamp(0.0, MAX_STEP),
+            Some(last) => (now_ms - last) / 1000.0,
             None => 0.0,
         };
         self.last_now_ms = Some(now_ms);
-        let s = &self.settings;
-        if !s.paused {
-            self.anim_time += dt * f64::from(s.speed);
-        }
-        self.dolly_time += dt;
-        let view_height = self.layout.views[0].height.max(1) as f32;
-        let switch = schedule::switch_distances(&self.lod.errors(), view_height, FOVY, s.tolerance_px);
-        self.distance = match s.distance_mode {
-            DistanceMode::Manual => s.manual_distance * self.framing,
-            DistanceMode::Dolly => {
-                let (near, far) = camera::dolly_range(self.framing, &switch);
-                camera::dolly_distance(near, far, s.dolly_period, self.dolly_time)
-            }
-        };
-        let levels = self.lod.levels.len();
-        if s.continuous_triangles.is_some() {
-            // The continuous level is drawn by every view; the schedule waits at level 0.
-            self.schedule = Schedule::FINEST;
-        } else {
-            self.schedule.step(s.transition, self.distance, &switch, s.hysteresis, dt as f32);
-        }
-        let continuous = s.continuous_triangles.map(|_| levels);
-        self.plans = s.methods.map(|m| match continuous {
-            Some(level) => {
-                plan_view(Method::Popping, &Schedule { selected: level, coordinate: 0.0 }, level + 1)
-            }
-            None => plan_view(m, &self.schedule, levels),
-        });
-        self.camera.distance = self.distance;
-        self.camera.yaw = s.yaw_degrees.to_radians();
-        self.camera.pitch = s.pitch_degrees.to_radians();
-        self.camera.pan = glam::Vec2::from(s.pan) * self.framing;
-        self.camera_raw = camera_raw(&self.camera, self.layout.views[0].aspect());
-        let pose = match s.clip.and_then(|c| self.character.clips.get(c)) {
-            Some(clip) => self.character.pose_at(clip, self.anim_time as f32),
+        self.model.advance(dt);
+        self.upload_continuous();
+        self.upload_morph_pairs();
+        self.camera_raw = camera_raw(&self.model.camera, self.model.layout.views[0].aspect());
+        let pose = match self.model.settings.clip.and_then(|c| self.character.clips.get(c)) {
+            Some(clip) => self.character.pose_at(clip, self.model.anim_time as f32),
             None => self.character.skeleton.rest_pose(),
         };
         // `Character::skin_matrices` in two steps, so the bones share the pose's node matrices.
@@ -354,14 +369,51 @@ impl Inner {
         self.bones = bone_segments(skeleton, &model_from_node);
     }
 
+    /// Keeps the renderer's continuous levels on the slider's two states: the finer one paired
+    /// with its ancestors in the coarser (one geomorph), and the coarser one.
+    fn upload_continuous(&mut self) {
+        let pair = self.model.continuous_pair();
+        if pair == self.continuous_uploaded {
+            return;
+        }
+        self.continuous_uploaded = pair;
+        let (Some((finer, coarser)), Some(clod)) = (pair, &self.clod) else {
+            self.renderer.set_continuous_levels(&[]);
+            return;
+        };
+        let pm = &clod.apm.pm;
+        let mut cursor = pm.cursor();
+        let coarse_collapses = cursor.set_triangle_count(coarser);
+        let coarse = LodSource::from_cursor(&self.character, clod, &cursor, coarse_collapses);
+        cursor.set_triangle_count(finer);
+        let fine = LodSource::from_cursor(&self.character, clod, &cursor, coarse_collapses);
+        self.renderer.set_continuous_levels(&[fine, coarse]);
+    }
+
+    /// Uploads the vertex pairs of geomorphs that skip levels (ancestor tables chained), once.
+    fn upload_morph_pairs(&mut self) {
+        for plan in &self.model.plans {
+            for draw in &plan.draws {
+                let Some(morph) = draw.morph else { continue };
+                let (fine, coarse) = (draw.level, morph.coarse);
+                if coarse > fine + 1 && !self.renderer.has_morph_pair(fine, coarse) {
+                    if let Some(vertices) = self.lod.morph_vertices(fine, coarse) {
+                        self.renderer.add_morph_pair(fine, coarse, &vertices);
+                    }
+                }
+            }
+        }
+    }
+
     /// What the renderer draws this frame: camera, skin and bone matrices, each view's plan.
     fn frame_input(&self) -> FrameInput<'_> {
+        let m = &self.model;
         FrameInput {
             camera: self.camera_raw,
             skin: &self.skin,
             bones: &self.bones,
-            views: [0, 1, 2].map(|i| (self.layout.views[i], &self.plans[i])),
-            overlay: self.settings.overlay,
+            views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
+            overlay: m.settings.overlay,
         }
     }
 
@@ -371,30 +423,20 @@ impl Inner {
         self.frames += 1;
     }
 
-    /// Moves the progressive mesh to `triangles` (None: off) and uploads that mesh as the
-    /// continuous level. Without a LOD chain there is nothing to move through.
-    fn set_continuous(&mut self, triangles: Option<u32>) {
-        let (Some(t), Some(clod)) = (triangles, &self.clod) else {
-            self.settings.continuous_triangles = None;
-            self.renderer.set_continuous_level(None);
-            return;
-        };
-        let mut cursor = clod.apm.pm.cursor();
-        cursor.set_triangle_count(t as usize);
-        let level = LodSource::from_cursor(&self.character, clod, &cursor);
-        self.renderer.set_continuous_level(Some(&level));
-        self.settings.continuous_triangles = Some(level.triangle_count() as u32);
-    }
-
+    /// Triangles of a drawn level: a discrete one, or the slider's finer (`levels`) or coarser
+    /// (`levels + 1`) state.
     fn level_triangles(&self, level: usize) -> usize {
-        match self.settings.continuous_triangles {
-            Some(t) if level == self.lod.levels.len() => t as usize,
+        let levels = self.lod.levels.len();
+        match (level.checked_sub(levels), self.model.continuous_pair()) {
+            (Some(0), Some((finer, _))) => finer,
+            (Some(1), Some((_, coarser))) => coarser,
             _ => self.lod.levels.get(level).map_or(0, |l| l.triangle_count()),
         }
     }
 
     fn state_json(&self) -> String {
-        let s = &self.settings;
+        let m = &self.model;
+        let s = &m.settings;
         let levels: Vec<String> = self
             .lod
             .levels
@@ -403,15 +445,17 @@ impl Inner {
             .collect();
         let views: Vec<String> = (0..s.view_count)
             .map(|i| {
-                let plan = &self.plans[i];
-                let r = self.layout.views[i];
+                let plan = &m.plans[i];
+                let r = m.layout.views[i];
                 let triangles: usize = plan.draws.iter().map(|d| self.level_triangles(d.level)).sum();
+                let shown = plan.transition;
                 format!(
-                    "{{\"method\":{},\"level\":{},\"triangles\":{},\"t\":{},\"draws\":{},\"rect\":[{},{},{},{}]}}",
-                    json_str(settings::method_name(s.methods[i])),
-                    plan.level,
+                    "{{\"method\":{},\"level\":{},\"to\":{},\"t\":{},\"triangles\":{},\"draws\":{},\"rect\":[{},{},{},{}]}}",
+                    json_str(method_name(s.methods[i])),
+                    shown.from,
+                    shown.to,
+                    num(shown.t),
                     triangles,
-                    num(plan.t),
                     plan.draws.len(),
                     r.x,
                     r.y,
@@ -422,18 +466,14 @@ impl Inner {
             .collect();
         let list = |v: &[String]| v.iter().map(|e| json_str(e)).collect::<Vec<_>>().join(",");
         let (w, h) = self.renderer.size();
-        let view_height = self.layout.views[0].height.max(1) as f32;
-        let switch: Vec<String> =
-            schedule::switch_distances(&self.lod.errors(), view_height, FOVY, s.tolerance_px)
-                .iter()
-                .map(|d| num(d / self.framing))
-                .collect();
+        let switch: Vec<String> = m.switch_distances().iter().map(|d| num(d / m.framing)).collect();
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},",
-                "\"selected\":{},\"coordinate\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
+                "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -453,42 +493,29 @@ impl Inner {
             switch.join(","),
             num(self.build_ms as f32),
             self.built_off_main_thread,
-            self.schedule.selected,
-            num(self.schedule.coordinate),
-            num(self.distance / self.framing),
-            num(self.anim_time as f32),
+            m.schedule.selected,
+            num(m.distance / m.framing),
+            num(m.anim_time as f32),
             s.paused,
             num(s.yaw_degrees),
             num(s.pitch_degrees),
             num(s.pan[0]),
             num(s.pan[1]),
             json_str(if s.distance_mode == DistanceMode::Manual { "manual" } else { "dolly" }),
-            json_str(settings::overlay_name(s.overlay)),
-            s.continuous_triangles.map_or("null".to_string(), |t| t.to_string()),
+            json_str(overlay_name(s.overlay)),
+            json_str(if s.by_distance { "distance" } else { "time" }),
+            num(s.duration),
+            num(s.zone),
+            num(s.transition_speed),
+            m.continuous_triangles().map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
-            self.layout.stacked,
+            m.layout.stacked,
             views.join(","),
             self.frames,
             list(&self.errors),
             list(&self.warnings),
         )
     }
-}
-
-/// Centre and radius of the character's rest pose (skinned, model space), with a margin for
-/// animation: limbs swing out of the rest pose's box.
-fn rest_sphere(character: &Character) -> (Vec3, f32) {
-    let positions = character.skinned_positions(&character.skeleton.rest_pose());
-    let (lo, hi) = positions
-        .iter()
-        .filter(|p| p.is_finite())
-        .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-    if lo.x > hi.x {
-        return (Vec3::ZERO, 1.0);
-    }
-    // 10 % margin: enough for the sample models' walk cycles.
-    let radius = (0.5 * (hi - lo).length() * 1.1).max(1e-3);
-    (0.5 * (lo + hi), radius)
 }
 
 /// The shared camera and lights. The key light sits above-right of the camera, so the lit side

@@ -12,11 +12,10 @@
 
 use wasm_bindgen::prelude::*;
 
-use super::{json_str, num, settings, Inner, Viewer};
-use crate::render::camera::FOVY;
+use super::{json_str, num, wait_for, Inner, Viewer};
 use crate::render::pop_spike::SpikeMeter;
-use crate::render::schedule::{self, Schedule, TransitionMode};
-use settings::DistanceMode;
+use crate::render::schedule::{Schedule, Transition};
+use crate::render::viewer::settings::{method_name, variant_name, DistanceMode};
 
 /// Frames of a measurement by default: the transition gets 48 of them. A geomorph's frame change
 /// does not shrink as 1/frames (8-bit rounding of the slowly changing shading flips pixels every
@@ -87,7 +86,7 @@ impl Viewer {
     /// default 1). Alpha-blending uses the current `variant`.
     ///
     /// Takes `frames` offscreen draws and readbacks (a few seconds on a software rasterizer);
-    /// meanwhile the viewer is busy (`frame` and the setters throw). Rejects when the viewer has
+    /// meanwhile the viewer draws no frames and queues the setters. Rejects when the viewer has
     /// one level only, an option is out of range, or a readback fails; the viewer's settings are
     /// restored in every case.
     #[wasm_bindgen(js_name = measurePopSpike)]
@@ -95,56 +94,15 @@ impl Viewer {
     pub fn measure_pop_spike(&self, options: JsValue) -> js_sys::Promise {
         let inner = std::rc::Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
-            let mut guard = inner.try_borrow_mut().map_err(|_| JsValue::from_str("viewer busy"))?;
+            let mut guard = wait_for(&inner).await;
             let options =
                 parse_options(&options, guard.lod.levels.len()).map_err(|e| JsValue::from_str(&e))?;
-            let saved = Saved::take(&guard);
+            let saved = (guard.model.clone(), guard.last_now_ms);
             let result = guard.measure(&options).await;
-            saved.restore(&mut guard);
+            (guard.model, guard.last_now_ms) = saved;
             let json = result.map_err(|e| JsValue::from_str(&e))?;
             js_sys::JSON::parse(&json)
         })
-    }
-}
-
-/// What a measurement changes, to put back afterwards.
-struct Saved {
-    settings: settings::Settings,
-    anim_time: f64,
-    dolly_time: f64,
-    last_now_ms: Option<f64>,
-    schedule: Schedule,
-    distance: f32,
-    plans: [crate::render::plan::ViewPlan; 3],
-    camera_raw: crate::render::uniforms::CameraRaw,
-    skin: Vec<glam::Mat4>,
-}
-
-impl Saved {
-    fn take(inner: &Inner) -> Self {
-        Self {
-            settings: inner.settings.clone(),
-            anim_time: inner.anim_time,
-            dolly_time: inner.dolly_time,
-            last_now_ms: inner.last_now_ms,
-            schedule: inner.schedule,
-            distance: inner.distance,
-            plans: inner.plans.clone(),
-            camera_raw: inner.camera_raw,
-            skin: inner.skin.clone(),
-        }
-    }
-
-    fn restore(self, inner: &mut Inner) {
-        inner.settings = self.settings;
-        inner.anim_time = self.anim_time;
-        inner.dolly_time = self.dolly_time;
-        inner.last_now_ms = self.last_now_ms;
-        inner.schedule = self.schedule;
-        inner.distance = self.distance;
-        inner.plans = self.plans;
-        inner.camera_raw = self.camera_raw;
-        inner.skin = self.skin;
     }
 }
 
@@ -152,35 +110,36 @@ impl Inner {
     /// Runs the measurement (see the module docs) and returns its result as JSON.
     async fn measure(&mut self, o: &SpikeOptions) -> Result<String, String> {
         let k = o.level;
-        let view_height = self.layout.views[0].height.max(1) as f32;
-        let switch =
-            schedule::switch_distances(&self.lod.errors(), view_height, FOVY, self.settings.tolerance_px);
-        let current = switch[k];
+        let current = self.model.switch_distances()[k];
         if !(current.is_finite() && current > 0.0) {
             return Err(format!("level {k} has no switch distance (its error is 0): nothing pops"));
         }
-        let s = &mut self.settings;
-        s.tolerance_px *= current / (o.at * self.framing);
+        let framing = self.model.framing;
+        let m = &mut self.model;
+        m.slider = None;
+        let s = &mut m.settings;
+        s.tolerance_px *= current / (o.at * framing);
         s.paused = true;
-        s.continuous_triangles = None;
         s.distance_mode = DistanceMode::Manual;
         let duration = (o.frames / 2) as f64 * FRAME_SECONDS;
-        s.transition = TransitionMode::Time { seconds_per_level: duration as f32 };
+        s.by_distance = false;
+        s.duration = duration as f32;
+        s.transition_speed = 1.0;
         // Coarsening happens at the switch distance × (1 + hysteresis).
         let crossing = o.at * (1.0 + s.hysteresis.max(0.0));
-        self.schedule = Schedule { selected: k - 1, coordinate: (k - 1) as f32 };
+        m.schedule = Schedule { selected: k - 1, transition: Transition::at(k - 1) };
         let start_ms = self.last_now_ms.unwrap_or(0.0);
         self.last_now_ms = Some(start_ms);
         let mut meter = SpikeMeter::default();
         let mut selected = Vec::with_capacity(o.frames as usize);
         for i in 0..o.frames {
             let f = i as f32 / (o.frames - 1) as f32;
-            self.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
+            self.model.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
             self.advance(start_ms + (i + 1) as f64 * FRAME_SECONDS * 1000.0);
-            selected.push(self.schedule.selected);
+            selected.push(self.model.schedule.selected);
             let input = self.frame_input();
             let pixels = self.renderer.read_pixels(&input).await.map_err(|e| e.to_string())?;
-            meter.push(pixels.rgba, pixels.width, self.layout.views);
+            meter.push(pixels.rgba, pixels.width, self.model.layout.views);
         }
         if selected.first() != Some(&(k - 1)) || selected.last() != Some(&k) {
             return Err(format!(
@@ -188,7 +147,7 @@ impl Inner {
                 k - 1
             ));
         }
-        if self.plans.iter().any(|p| p.t != 0.0) {
+        if self.model.plans.iter().any(|p| p.transition.is_running()) {
             return Err(format!("the transition to level {k} did not end within {} frames", o.frames));
         }
         Ok(self.spike_json(o, &meter, duration))
@@ -196,7 +155,7 @@ impl Inner {
 
     fn spike_json(&self, o: &SpikeOptions, meter: &SpikeMeter, duration: f64) -> String {
         let largest = meter.largest();
-        let names = self.settings.methods.map(settings::method_name);
+        let names = self.model.settings.methods.map(method_name);
         let by_method = |name: &str| {
             let values = (0..3).filter(|&i| names[i] == name).map(|i| largest[i]);
             values.reduce(f32::max).map_or("null".to_string(), num)
@@ -217,7 +176,7 @@ impl Inner {
             by_method("popping"),
             by_method("alpha"),
             by_method("geomorph"),
-            json_str(settings::variant_name(self.settings.variant)),
+            json_str(variant_name(self.model.settings.variant)),
             o.level,
             o.frames,
             num(o.at),

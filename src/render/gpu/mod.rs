@@ -38,9 +38,10 @@ use crate::character::{AlphaMode, Character};
 /// Why the renderer could not start or draw.
 #[derive(Debug, Error)]
 pub enum RenderError {
-    #[error("no {0} adapter: this browser or GPU cannot run it")]
+    #[error("this browser gives no {0} adapter (no GPU it can use for {0})")]
     NoAdapter(&'static str),
-    #[error("the canvas cannot be used for {0}: {1}")]
+    /// The backend's own report is kept for the console, not the sentence.
+    #[error("this browser gives the canvas no {0} context")]
     Surface(&'static str, String),
     #[error("the GPU refused a device: {0}")]
     Device(String),
@@ -66,6 +67,10 @@ const BONE_VERTEX_STRIDE: u64 = 12;
 const BONE_VERTICES: usize = 2 * MAX_JOINTS;
 /// Draw-call slots of the per-draw uniform buffer: 3 views × 2 draws at most.
 const DRAW_SLOTS: u64 = 6;
+/// Level-skipping geomorph buffers kept: a dolly moves between neighbouring pairs, so a few
+/// cover it, and each costs as much as its fine level's vertex buffer (3.7 MB for the built-in
+/// character's finest level).
+const MORPH_PAIRS: usize = 4;
 /// WebGPU's and WebGL2's minimum uniform offset alignment: the stride of the draw slots.
 const DRAW_STRIDE: u64 = 256;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
@@ -139,13 +144,33 @@ pub struct Renderer {
     draw_group: wgpu::BindGroup,
     materials: Vec<MaterialGpu>,
     levels: Vec<LevelGpu>,
-    /// The continuous-LOD mesh, drawn as level `levels.len()`.
-    continuous: Option<LevelGpu>,
+    /// The continuous slider's meshes, drawn as levels `levels.len()` (the finer state, its
+    /// vertices paired with their ancestors in the coarser) and `levels.len() + 1` (the coarser).
+    continuous: Vec<LevelGpu>,
+    /// Vertex buffers of level `fine` paired with its ancestors in level `coarse > fine + 1`, for
+    /// geomorphs that skip levels; most recently used last, at most [`MORPH_PAIRS`].
+    morph_pairs: Vec<((usize, usize), wgpu::Buffer)>,
     pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     /// `webgpu` or `webgl2`, and the adapter's name.
     pub backend: &'static str,
     pub adapter_name: String,
+}
+
+impl RenderError {
+    /// Whether the browser cannot give this backend a GPU at all (no adapter, context or
+    /// device), as opposed to a problem with this character: another backend may work.
+    pub fn is_unavailable(&self) -> bool {
+        matches!(self, Self::NoAdapter(_) | Self::Surface(..) | Self::Device(_))
+    }
+
+    /// The backend's own words, for the console (empty when the message says it all).
+    pub fn detail(&self) -> &str {
+        match self {
+            Self::Surface(_, detail) => detail,
+            _ => "",
+        }
+    }
 }
 
 impl Renderer {
@@ -274,7 +299,8 @@ impl Renderer {
             draw_group,
             materials,
             levels,
-            continuous: None,
+            continuous: Vec::new(),
+            morph_pairs: Default::default(),
             pipelines,
             errors,
             backend,
@@ -312,10 +338,38 @@ impl Renderer {
         std::mem::take(&mut *self.errors.lock().unwrap_or_else(|p| p.into_inner()))
     }
 
-    /// Uploads the continuous-LOD mesh (drawn as level `levels`), or drops it.
-    pub fn set_continuous_level(&mut self, level: Option<&LevelData>) {
+    /// Uploads the continuous slider's meshes (drawn as levels `levels`, `levels + 1`, …), or
+    /// drops them (empty).
+    pub fn set_continuous_levels(&mut self, levels: &[LevelData]) {
         let default_slot = self.materials.len() - 1;
-        self.continuous = level.map(|l| upload_level(&self.device, l, default_slot));
+        self.continuous = levels.iter().map(|l| upload_level(&self.device, l, default_slot)).collect();
+    }
+
+    /// Whether the geomorph buffer of level `fine` towards level `coarse` is uploaded.
+    pub fn has_morph_pair(&self, fine: usize, coarse: usize) -> bool {
+        self.morph_pairs.iter().any(|(key, _)| *key == (fine, coarse))
+    }
+
+    /// Uploads level `fine`'s vertices paired with their ancestors in level `coarse`
+    /// ([`LodSource::morph_vertices`]), dropping the least recently used pair beyond
+    /// [`MORPH_PAIRS`].
+    pub fn add_morph_pair(&mut self, fine: usize, coarse: usize, vertices: &[GeomorphVertexRaw]) {
+        let buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("level-skipping geomorph"),
+            contents: bytemuck::cast_slice(vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let pairs = &mut self.morph_pairs;
+        pairs.retain(|(key, _)| *key != (fine, coarse));
+        if pairs.len() >= MORPH_PAIRS {
+            pairs.remove(0);
+        }
+        pairs.push(((fine, coarse), buffer));
+    }
+
+    /// The mesh drawn as `level`: a discrete level or one of the slider's.
+    fn level_gpu(&self, level: usize) -> Option<&LevelGpu> {
+        self.levels.get(level).or_else(|| self.continuous.get(level.checked_sub(self.levels.len())?))
     }
 
     /// Resizes the surface and the depth and MSAA targets; a zero size is ignored.
@@ -463,36 +517,40 @@ impl Renderer {
             let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
             *slot += 1;
             let raw = DrawRaw {
-                morph_t: draw.morph_t.unwrap_or(0.0),
+                morph_t: draw.morph.map_or(0.0, |m| m.t),
                 opacity: draw.opacity,
                 dither_mode: draw.dither_mode,
                 dither_threshold: draw.dither_threshold,
                 viewport_origin: origin,
-                tint: draw_tint(overlay, draw.level, draw.morph_t),
+                tint: draw_tint(overlay, draw.level, draw.morph),
                 ..DrawRaw::default()
             };
             self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
-            let level = match self.levels.get(draw.level) {
-                Some(level) => level,
-                None if draw.level == self.levels.len() => match &self.continuous {
-                    Some(level) => level,
-                    None => continue,
-                },
-                None => continue,
+            let Some(level) = self.level_gpu(draw.level) else { continue };
+            // A level's own buffer pairs each vertex with its ancestor one level coarser; a
+            // geomorph that skips levels reads its uploaded pair buffer.
+            let vertices = match draw.morph {
+                Some(m) if m.coarse != draw.level + 1 => {
+                    match self.morph_pairs.iter().find(|(key, _)| *key == (draw.level, m.coarse)) {
+                        Some((_, buffer)) => buffer,
+                        None => continue,
+                    }
+                }
+                _ => &level.vertices,
             };
             pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
-            pass.set_vertex_buffer(0, level.vertices.slice(..));
+            pass.set_vertex_buffer(0, vertices.slice(..));
             pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
             for &(first, count, material) in &level.ranges {
                 let m = &self.materials[material];
-                let key = (draw.pass, draw.morph_t.is_some(), !m.double_sided);
+                let key = (draw.pass, draw.morph.is_some(), !m.double_sided);
                 pass.set_pipeline(&self.pipelines.shaded[&key]);
                 pass.set_bind_group(1, &m.bind_group, &[]);
                 pass.draw_indexed(first..first + count, 0, 0..1);
             }
             if overlay == Overlay::Wireframe && !level.ranges.is_empty() {
                 // The same vertices and draw uniforms (morph, opacity, dither) as the triangles.
-                pass.set_pipeline(&self.pipelines.wire[usize::from(draw.morph_t.is_some())]);
+                pass.set_pipeline(&self.pipelines.wire[usize::from(draw.morph.is_some())]);
                 pass.set_index_buffer(level.edges.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..level.edge_count, 0, 0..1);
             }

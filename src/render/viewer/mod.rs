@@ -1,0 +1,240 @@
+//! The viewer's application model: settings, the animation and dolly clocks, the camera, the one
+//! LOD schedule every view shares, the continuous slider's morphs and each view's draw plan.
+//! Pure and native-testable; `src/web` is its thin JavaScript face and `render::gpu` draws the
+//! plans (the split of the wgpu examples' `Example` and eframe's `App`).
+//!
+//! Per frame the web layer calls [`ViewerModel::advance`] with the elapsed seconds, then draws
+//! `plans` with the pose at `anim_time`. Distances are model units inside; the page sees them as
+//! multiples of the framing distance (the animated bounding sphere fills a view at 1).
+//!
+//! The continuous slider moves through progressive-mesh states given by their triangle counts; a
+//! new count morphs from the state shown to the new one over one transition duration (Hoppe 1996
+//! §3.2: a geomorph joins any two states). Its two meshes are drawn as levels `levels` (the finer
+//! state) and `levels + 1` (the coarser), so the plans read like those of discrete levels.
+
+pub mod settings;
+
+use glam::{Vec2, Vec3};
+
+use super::camera::{self, OrbitCamera, FOVY};
+use super::layout::{layout, Layout};
+use super::plan::{plan_view, ViewPlan};
+use super::schedule::{self, advance_time, Schedule, Transition};
+use crate::character::Character;
+use settings::{DistanceMode, Settings, Update};
+
+/// Longest step of the clocks per frame, seconds: a tab that was hidden for a minute resumes
+/// where it was instead of jumping.
+pub const MAX_STEP: f64 = 0.1;
+
+/// The viewer's state between frames (see the module docs). `Clone`, so a measurement can save
+/// and restore it whole.
+#[derive(Clone, Debug)]
+pub struct ViewerModel {
+    pub settings: Settings,
+    /// Animation clock, seconds.
+    pub anim_time: f64,
+    /// Dolly clock, seconds (runs while the animation is paused, so a paused pose can be dollied).
+    pub dolly_time: f64,
+    pub schedule: Schedule,
+    /// The continuous slider's morph between progressive-mesh states (triangle counts), when on.
+    pub slider: Option<Transition>,
+    /// The slider's latest request; reached after the running morph.
+    slider_goal: usize,
+    pub camera: OrbitCamera,
+    /// Framing distance for the current view shape (model units).
+    pub framing: f32,
+    /// Camera distance this frame (model units).
+    pub distance: f32,
+    pub layout: Layout,
+    /// Canvas size, framebuffer pixels.
+    canvas: (u32, u32),
+    pub plans: [ViewPlan; 3],
+    /// Geometric error of every discrete level, finest first (model units).
+    errors: Vec<f32>,
+}
+
+impl ViewerModel {
+    /// A model framing the sphere `(centre, radius)` (see [`animated_sphere`]) on a `width` ×
+    /// `height` canvas, with levels of geometric `errors` (finest first, at least one).
+    pub fn new(sphere: (Vec3, f32), errors: Vec<f32>, width: u32, height: u32) -> Self {
+        let settings = Settings::default();
+        let (center, radius) = sphere;
+        let layout = layout(width, height, settings.view_count);
+        let framing = camera::framing_distance_for(radius, layout.views[0].aspect());
+        let camera = OrbitCamera {
+            target: center,
+            radius,
+            distance: framing,
+            yaw: settings.yaw_degrees.to_radians(),
+            pitch: settings.pitch_degrees.to_radians(),
+            pan: Vec2::ZERO,
+        };
+        let rest = plan_view(settings.methods[0], &Transition::at(0));
+        let mut model = Self {
+            settings,
+            anim_time: 0.0,
+            dolly_time: 0.0,
+            schedule: Schedule::FINEST,
+            slider: None,
+            slider_goal: 0,
+            camera,
+            framing,
+            distance: framing,
+            layout,
+            canvas: (width, height),
+            plans: [rest.clone(), rest.clone(), rest],
+            errors: if errors.is_empty() { vec![0.0] } else { errors },
+        };
+        model.advance(0.0);
+        model.settle();
+        model
+    }
+
+    /// Shows the selected level at rest, without a transition: a first frame (or a new set of
+    /// levels) starts where the distance puts it rather than morphing from the finest level.
+    pub fn settle(&mut self) {
+        let selected = self.schedule.selected;
+        self.schedule.transition = Transition::at(selected);
+        if self.slider.is_none() {
+            self.plans = self.settings.methods.map(|m| plan_view(m, &self.schedule.transition));
+        }
+    }
+
+    /// Number of discrete levels.
+    pub fn level_count(&self) -> usize {
+        self.errors.len()
+    }
+
+    /// Geometric error of every discrete level, finest first.
+    pub fn errors(&self) -> &[f32] {
+        &self.errors
+    }
+
+    /// Resizes the canvas (framebuffer pixels).
+    pub fn resize(&mut self, width: u32, height: u32) {
+        self.canvas = (width, height);
+        self.layout = layout(width, height, self.settings.view_count);
+    }
+
+    /// Applies a `setState` update. Continuous counts must be progressive-mesh states' (the web
+    /// layer snaps them with the cursor).
+    pub fn apply(&mut self, update: &Update) {
+        if let Some(time) = update.time {
+            self.anim_time = time;
+        }
+        update.apply(&mut self.settings);
+        match update.continuous_triangles {
+            Some(Some(triangles)) => {
+                let triangles = triangles as usize;
+                self.slider_goal = triangles;
+                if self.slider.is_none() {
+                    self.slider = Some(Transition::at(triangles));
+                }
+            }
+            Some(None) => self.slider = None,
+            None => {}
+        }
+        let (w, h) = self.canvas;
+        self.resize(w, h);
+    }
+
+    /// The switch distance of every level for the current view and tolerance (model units).
+    pub fn switch_distances(&self) -> Vec<f32> {
+        let view_height = self.layout.views[0].height.max(1) as f32;
+        schedule::switch_distances(&self.errors, view_height, FOVY, self.settings.tolerance_px)
+    }
+
+    /// Advances the clocks by `dt` seconds (clamped to [`MAX_STEP`]), moves the camera, steps the
+    /// schedule (or the slider's morph) and plans every view.
+    pub fn advance(&mut self, dt: f64) {
+        let dt = dt.clamp(0.0, MAX_STEP);
+        let s = &self.settings;
+        if !s.paused {
+            self.anim_time += dt * f64::from(s.speed);
+        }
+        self.dolly_time += dt;
+        self.framing = camera::framing_distance_for(self.camera.radius, self.layout.views[0].aspect());
+        let switch = self.switch_distances();
+        let s = &self.settings;
+        self.distance = match s.distance_mode {
+            DistanceMode::Manual => s.manual_distance * self.framing,
+            DistanceMode::Dolly => {
+                let (near, far) = camera::dolly_range(self.framing, &switch);
+                camera::dolly_distance(near, far, s.dolly_period, self.dolly_time)
+            }
+        };
+        let transition_dt = (dt as f32) * s.transition_speed;
+        let levels = self.errors.len();
+        let shown = match &mut self.slider {
+            Some(slider) => {
+                // The continuous mesh is drawn by every view; the schedule waits at level 0.
+                self.schedule = Schedule::FINEST;
+                *slider = advance_time(*slider, self.slider_goal, s.duration, transition_dt);
+                slider_slots(slider, levels)
+            }
+            None => {
+                let mode = s.transition_mode();
+                self.schedule.step(mode, self.distance, &switch, s.hysteresis, transition_dt);
+                self.schedule.transition
+            }
+        };
+        self.plans = s.methods.map(|m| plan_view(m, &shown));
+        self.camera.distance = self.distance;
+        self.camera.yaw = s.yaw_degrees.to_radians();
+        self.camera.pitch = s.pitch_degrees.to_radians();
+        self.camera.pan = Vec2::from(s.pan) * self.framing;
+    }
+
+    /// The slider's two states as `(finer, coarser)` triangle counts (equal at rest), when on:
+    /// the meshes the renderer must hold as levels `levels` and `levels + 1`.
+    pub fn continuous_pair(&self) -> Option<(usize, usize)> {
+        self.slider.map(|s| (s.from.max(s.to), s.from.min(s.to)))
+    }
+
+    /// The slider's state shown when its morph ends (what the page reports).
+    pub fn continuous_triangles(&self) -> Option<usize> {
+        self.slider.map(|s| s.to)
+    }
+}
+
+/// The slider's morph between triangle counts as a transition between the drawn slots: `levels`
+/// for the finer state, `levels + 1` for the coarser.
+fn slider_slots(slider: &Transition, levels: usize) -> Transition {
+    let finer = slider.from.max(slider.to);
+    let slot = |triangles: usize| if triangles == finer { levels } else { levels + 1 };
+    Transition { from: slot(slider.from), to: slot(slider.to), t: slider.t }
+}
+
+/// Frames per clip sampled for the animated bounds: enough that a limb's swing between two
+/// samples stays inside the margin.
+const BOUND_FRAMES_PER_CLIP: usize = 12;
+
+/// Centre and radius of a sphere holding the character in its rest pose and through every clip
+/// (sampled, with a 5 % margin for the motion between samples), so that a framed view shows the
+/// whole character, head to feet, in every pose.
+pub fn animated_sphere(character: &Character) -> (Vec3, f32) {
+    let mut lo = Vec3::MAX;
+    let mut hi = Vec3::MIN;
+    let mut include = |positions: Vec<Vec3>| {
+        for p in positions.into_iter().filter(|p| p.is_finite()) {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    };
+    include(character.skinned_positions(&character.skeleton.rest_pose()));
+    for clip in &character.clips {
+        for k in 0..BOUND_FRAMES_PER_CLIP {
+            let time = clip.duration() * k as f32 / BOUND_FRAMES_PER_CLIP as f32;
+            include(character.skinned_positions(&character.pose_at(clip, time)));
+        }
+    }
+    if lo.x > hi.x {
+        return (Vec3::ZERO, 1.0);
+    }
+    let radius = (0.5 * (hi - lo).length() * 1.05).max(1e-3);
+    (0.5 * (lo + hi), radius)
+}
+
+#[cfg(test)]
+mod tests;
