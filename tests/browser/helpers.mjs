@@ -116,7 +116,7 @@ export function clock(startMs = 1000) {
 
 // Puts the schedule mid-transition from level `k - 1` to level `k` with blend `t` (time-driven),
 // the animation paused at `time`: pops to `k - 1` just before the switch distance, moves just
-// past it, then steps 0.1 s frames with `duration` = 1 s per level until `t` is reached.
+// past it (the switch frame, t = 0), then steps 0.1 s frames with `duration` = 1 s until `t`.
 // Returns the last state. `switchScale` places the switch at that many framing distances.
 export async function midTransition(page, c, { k, t, methods, variant = 'opaque-first', switchAt = 1.5, time = 0.4 }) {
   let state = await frame(page, c.now, { paused: true, time, methods, variant, transition: 'time', duration: 0, hysteresis: 0.1, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
@@ -124,7 +124,7 @@ export async function midTransition(page, c, { k, t, methods, variant = 'opaque-
   state = await frame(page, c.tick(100), { tolerance, distance: switchAt * 1.1 * 0.97 });
   if (state.selected !== k - 1) throw new Error(`expected level ${k - 1} before the switch, got ${state.selected}`);
   state = await frame(page, c.tick(100), { duration: 1, distance: switchAt * 1.1 * 1.03 });
-  for (let i = 1; i < Math.round(t * 10); i++) state = await frame(page, c.tick(100));
+  for (let i = 0; i < Math.round(t * 10); i++) state = await frame(page, c.tick(100));
   return state;
 }
 

@@ -35,7 +35,7 @@ test("geomorph's largest frame change is ≤ 10 % of popping's (alpha-blend vari
   console.log(`pop spike (${SMALL_VIEWPORT.width}-px-wide page):\n  ${lines.join('\n  ')}`);
   // The viewer is as it was: same settings, clocks and level.
   const after = await frame(page, now, {});
-  for (const key of ['distance', 'animTime', 'paused', 'selected', 'coordinate', 'switch']) {
+  for (const key of ['distance', 'animTime', 'paused', 'selected', 'views', 'switch']) {
     assert.deepEqual(after[key], before[key], key);
   }
 });

@@ -52,8 +52,9 @@ test('a model URL that does not exist leaves the page in the error state with a 
 test('the continuous LOD slider: every view draws about n triangles, coarser n change the picture more', async () => {
   const page = await openPage(browser, {}, SMALL_VIEWPORT);
   let now = 1000;
-  // The finest level in every view (a tolerance so small that the schedule never coarsens).
-  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE });
+  // The finest level in every view (a tolerance so small that the schedule never coarsens);
+  // duration 0: each count is shown at once (the morph between counts is checked below).
+  const start = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE, duration: 0 });
   assert.equal(start.views[0].triangles, start.maxTriangles);
   const finest = crop(await readPixels(page), start.views[0].rect);
   const rows = [];
@@ -74,6 +75,22 @@ test('the continuous LOD slider: every view draws about n triangles, coarser n c
   }
   console.log(`continuous LOD, mean |ΔRGB| per pixel from the full mesh: ${rows.join(', ')}`);
   assert.ok(previous > 0, 'the coarsest continuous mesh changes the picture');
+  // With a duration, a new count morphs: popping shows it at once, the geomorph view goes from
+  // the old state to the new one, its picture in between.
+  const coarse = crop(await readPixels(page), start.views[0].rect);
+  await frame(page, now += 16, { duration: 1, methods: ['popping', 'alpha', 'geomorph'] });
+  let mid = await frame(page, now += 16, { continuousTriangles: 20000 });
+  for (let i = 0; i < 5; i++) mid = await frame(page, now += 100);
+  const shown = mid.views.map((v) => `${v.level}→${v.to} at ${v.t}`);
+  assert.ok(shown.every((x) => x === shown[0]) && mid.views[0].level !== mid.views[0].to, `every view shows one change: ${shown}`);
+  assert.ok(mid.views.every((v) => v.t > 0.4 && v.t < 0.6), `t: ${mid.views.map((v) => v.t)}`);
+  assert.equal(mid.views[0].triangles, mid.continuousTriangles, 'popping switched at once');
+  const pixels = await readPixels(page);
+  const [popped, , morphing] = mid.views.map((v) => crop(pixels, v.rect));
+  const toCoarse = meanAbsDiff(morphing, coarse);
+  const toFine = meanAbsDiff(morphing, popped);
+  assert.ok(toCoarse > 0 && toFine > 0, `the half-way geomorph is neither end (${toCoarse}, ${toFine})`);
+  assert.deepEqual(mid.errors, []);
   const off = await frame(page, now += 16, { continuousTriangles: null });
   assert.equal(off.continuousTriangles, null);
   assert.equal(off.views[0].triangles, off.levels[0].triangles);
