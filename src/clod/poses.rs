@@ -176,15 +176,16 @@ type Sym3 = [f64; 6];
 /// triangles rose by 9 %. In f64 every level's error is the 4×4 pull-back's.
 pub struct FrameQuadrics<'a> {
     bind_positions: &'a [Vec3],
-    /// The triangles not skipped.
+    /// The triangles not skipped, by their corners' places in `vertices`.
     triangles: Vec<[u32; 3]>,
-    /// Their corners, each once, in increasing order: the vertices whose matrices are read.
+    /// Their corners, each once, in increasing order: the vertices whose matrices are read. The
+    /// buffers below are indexed by place in this list, which keeps them dense.
     vertices: Vec<u32>,
     /// `M0(v)`'s linear part inverted, per vertex; `None` for the bind pose.
     p0_linear_inverse: Option<Vec<DMat3>>,
     /// `P0` positions, as the simplifier sees them; `None` for the bind pose.
     p0_positions: Option<Vec<Vec3>>,
-    /// The frame's posed positions (of `vertices` only).
+    /// The frame's posed positions.
     posed: Vec<DVec3>,
     /// The frame's `N = Σ area · n nᵀ` and `Σ area` per vertex; all zero between frames.
     in_frame: Vec<(Sym3, f64)>,
@@ -200,18 +201,21 @@ impl<'a> FrameQuadrics<'a> {
         p0_matrices: Option<&[Mat4]>,
         skip: &[bool],
     ) -> FrameQuadrics<'a> {
-        let n = bind_positions.len();
-        let triangles: Vec<[u32; 3]> = indices
-            .chunks_exact(3)
-            .enumerate()
-            .filter(|(t, _)| skip.get(*t) != Some(&true))
-            .map(|(_, tri)| [tri[0], tri[1], tri[2]])
-            .collect();
-        let mut used = vec![false; n];
-        for &i in triangles.iter().flatten() {
-            used[i as usize] = true;
+        let kept = || indices.chunks_exact(3).enumerate().filter(|(t, _)| skip.get(*t) != Some(&true));
+        let mut used = vec![false; bind_positions.len()];
+        for (_, tri) in kept() {
+            for &i in tri {
+                used[i as usize] = true;
+            }
         }
-        let vertices = (0..n as u32).filter(|&v| used[v as usize]).collect();
+        let vertices: Vec<u32> = (0..used.len() as u32).filter(|&v| used[v as usize]).collect();
+        // Each used vertex's place in `vertices`.
+        let mut place = vec![0; used.len()];
+        for (i, &v) in vertices.iter().enumerate() {
+            place[v as usize] = i as u32;
+        }
+        let triangles = kept().map(|(_, tri)| [0, 1, 2].map(|k| place[tri[k] as usize])).collect();
+        let n = vertices.len();
         let p0_linear_inverse =
             p0_matrices.map(|m| m.iter().map(|m| DMat3::from_mat4(m.as_dmat4()).inverse()).collect());
         let p0_positions =
@@ -236,9 +240,9 @@ impl<'a> FrameQuadrics<'a> {
 
     /// Adds one frame, `frame_matrices[v]` being `Mf(v)`, with weight `frame_weight`.
     pub fn add(&mut self, frame_matrices: &[Mat4], frame_weight: f64) {
-        for &v in &self.vertices {
+        for (posed, &v) in self.posed.iter_mut().zip(&self.vertices) {
             let v = v as usize;
-            self.posed[v] = frame_matrices[v].transform_point3(self.bind_positions[v]).as_dvec3();
+            *posed = frame_matrices[v].transform_point3(self.bind_positions[v]).as_dvec3();
         }
         for tri in &self.triangles {
             let [a, b, c] = tri.map(|i| self.posed[i as usize]);
@@ -251,9 +255,9 @@ impl<'a> FrameQuadrics<'a> {
                 *sum += area;
             }
         }
-        for &v in &self.vertices {
+        for (i, &v) in self.vertices.iter().enumerate() {
             let v = v as usize;
-            let (n, area) = std::mem::take(&mut self.in_frame[v]);
+            let (n, area) = std::mem::take(&mut self.in_frame[i]);
             if area == 0.0 {
                 continue; // no plane at this vertex in this frame
             }
@@ -262,7 +266,7 @@ impl<'a> FrameQuadrics<'a> {
                 Some(inverse) => DMat3::from_mat4(frame_matrices[v].as_dmat4()) * inverse[v],
                 None => DMat3::from_mat4(frame_matrices[v].as_dmat4()),
             };
-            let (m, sum) = &mut self.summed[v];
+            let (m, sum) = &mut self.summed[i];
             for (m, x) in m.iter_mut().zip(congruence(&n, &l)) {
                 *m += frame_weight * x;
             }
@@ -272,9 +276,8 @@ impl<'a> FrameQuadrics<'a> {
 
     /// Adds the frames' quadrics, centred on the `P0` positions, to `quadrics`.
     pub fn finish(self, quadrics: &mut [Quadric]) {
-        for &v in &self.vertices {
+        for (&v, &(m, weight)) in self.vertices.iter().zip(&self.summed) {
             let v = v as usize;
-            let (m, weight) = self.summed[v];
             if weight == 0.0 {
                 continue;
             }
