@@ -258,34 +258,26 @@ fn multi_pose_quadrics(
     if frames.is_empty() {
         return None;
     }
-    let p0_inverse: Option<Vec<Mat4>> = p0_matrices.map(|m| m.iter().map(Mat4::inverse).collect());
     let mesh = &character.mesh;
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
     // Triangles that only move rigidly with the bind pose add their bind plane once, not per frame.
-    let rigid = match p0_inverse {
+    let rigid = match p0_matrices {
         None => poses::rigid_triangles(&mesh.joints, &mesh.weights, &mesh.indices, &frames),
         Some(_) => Vec::new(),
     };
     poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, &mesh.indices, &rigid);
-    // Only the corners of the other triangles need their skin matrices in each frame.
-    let mut moving = vec![false; mesh.vertex_count()];
-    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
-        if rigid.get(t) != Some(&true) {
-            for &v in tri {
-                moving[v as usize] = true;
-            }
-        }
-    }
     let weight = 1.0 / frames.len() as f64;
     let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
-    let mut frame_quadrics =
-        poses::FrameQuadrics::new(&mesh.positions, &mesh.indices, p0_inverse.as_deref(), &rigid);
+    let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, &mesh.indices, p0_matrices, &rigid);
     for skin in &frames {
-        for (v, m) in matrices.iter_mut().enumerate().filter(|(v, _)| moving[*v]) {
-            *m = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
+        // Only the corners of the other triangles need their skin matrices.
+        for &v in frame_quadrics.vertices() {
+            let v = v as usize;
+            matrices[v] = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
         }
-        frame_quadrics.add(&mut quadrics, &matrices, weight);
+        frame_quadrics.add(&matrices, weight);
     }
+    frame_quadrics.finish(&mut quadrics);
     Some(quadrics)
 }
 
