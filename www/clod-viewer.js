@@ -539,7 +539,9 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.to = view.to;
       label.dataset.t = view.t.toFixed(3);
       const t = view.to !== view.level ? ` → ${view.to}, t = ${view.t.toFixed(2)}` : '';
-      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles`;
+      // Magnified views say so: what is seen is the real size's change, enlarged.
+      const magnified = state.magnify > 1 ? ` · magnified ×${state.magnify}` : '';
+      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles${magnified}`;
     });
     // A label wider than its view (three views in a narrow column) takes the short form; one
     // still too wide ends in an ellipsis (CSS). Written first, measured after: one layout.
@@ -547,7 +549,8 @@ export class ClodViewerElement extends HTMLElement {
       const view = state.views[i];
       if (!view || label.scrollWidth <= label.clientWidth) return;
       const t = view.to !== view.level ? `→${view.to} (${view.t.toFixed(2)})` : '';
-      label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris`;
+      const magnified = state.magnify > 1 ? ` · ×${state.magnify}` : '';
+      label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
     return state;

@@ -149,6 +149,7 @@ function wireControls() {
   });
   $('zone').addEventListener('input', (e) => set({ zone: Number(e.target.value) }));
   $('transition-speed').addEventListener('change', (e) => set({ transitionSpeed: Number(e.target.value) }));
+  $('magnify').addEventListener('change', (e) => set({ magnify: Number(e.target.value) }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
   $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
   const continuous = () => {

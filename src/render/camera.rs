@@ -35,6 +35,10 @@ pub struct OrbitCamera {
     pub pitch: f32,
     /// Shift of the point looked at along the view's right and up directions, model units.
     pub pan: Vec2,
+    /// Magnification about the point looked at (1: the normal lens): the field of view narrows
+    /// so that lengths on screen grow this many times, while the eye stays where it is. The LOD
+    /// schedule ignores it, so a magnified view shows the change that happens at the real size.
+    pub zoom: f32,
 }
 
 impl OrbitCamera {
@@ -70,8 +74,15 @@ impl OrbitCamera {
         let far = (centre + self.radius).max(near * 2.0);
         let view_from_model = view::look_at_mat4(eye, self.look_at(), Vec3::Y);
         // wgpu's clip space is Direct3D's: y up, depth in [0, 1].
-        directx::perspective(FOVY, aspect, near, far) * view_from_model
+        directx::perspective(magnified_fovy(self.zoom), aspect, near, far) * view_from_model
     }
+}
+
+/// The vertical field of view that makes screen lengths `zoom` times larger than [`FOVY`] does
+/// (`tan` of the half angle divided by `zoom`); a zoom below 1 or not finite counts as 1.
+pub fn magnified_fovy(zoom: f32) -> f32 {
+    let zoom = if zoom.is_finite() { zoom.max(1.0) } else { 1.0 };
+    2.0 * ((FOVY * 0.5).tan() / zoom).atan()
 }
 
 /// Framing distance: the character's sphere fills the view's height.
@@ -143,6 +154,7 @@ mod tests {
             yaw: 0.7,
             pitch: DEFAULT_PITCH,
             pan: Vec2::ZERO,
+            zoom: 1.0,
         };
         let clip = cam.clip_from_model(1.5) * cam.target.extend(1.0);
         assert!((clip.x / clip.w).abs() < 1e-5 && (clip.y / clip.w).abs() < 1e-5);
@@ -160,6 +172,7 @@ mod tests {
             yaw: 0.0,
             pitch: 0.0,
             pan: Vec2::ZERO,
+            zoom: 1.0,
         };
         assert!((flat.eye() - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6);
         let above = OrbitCamera { pitch: std::f32::consts::FRAC_PI_6, ..flat };
@@ -179,6 +192,7 @@ mod tests {
             yaw: 0.0,
             pitch: 0.0,
             pan: Vec2::new(0.5, -0.25),
+            zoom: 1.0,
         };
         assert!((cam.look_at() - Vec3::new(0.5, -0.25, 0.0)).length() < 1e-6);
         assert!((cam.eye() - Vec3::new(0.5, -0.25, 4.0)).length() < 1e-6);
@@ -196,6 +210,29 @@ mod tests {
         let d = framing_distance(radius);
         // The tangent from the eye to the sphere makes half the field of view with the axis.
         assert!(((radius / d).asin() - FOVY / 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn magnifying_scales_screen_lengths_about_the_point_looked_at() {
+        let cam = OrbitCamera {
+            target: Vec3::ZERO,
+            radius: 1.0,
+            distance: 4.0,
+            yaw: 0.0,
+            pitch: 0.0,
+            pan: Vec2::ZERO,
+            zoom: 1.0,
+        };
+        let ndc = |c: &OrbitCamera, p: Vec3| {
+            let clip = c.clip_from_model(1.0) * p.extend(1.0);
+            Vec2::new(clip.x, clip.y) / clip.w
+        };
+        let point = Vec3::new(0.1, 0.2, 0.0);
+        let four = OrbitCamera { zoom: 4.0, ..cam };
+        assert!((ndc(&four, point) - 4.0 * ndc(&cam, point)).length() < 1e-5);
+        assert!(ndc(&four, Vec3::ZERO).length() < 1e-6, "the point looked at stays in the centre");
+        assert_eq!(magnified_fovy(0.5), FOVY);
+        assert_eq!(magnified_fovy(f32::NAN), FOVY);
     }
 
     #[test]

@@ -206,7 +206,8 @@ impl Viewer {
     /// `"popping"|"alpha"|"geomorph"`: the views, in order), `continuousTriangles` (number, or null
     /// for off), `overlay` (`"none"|"wireframe"|"levels"|"skeleton"`: triangle edges, a colour per level,
     /// or the bones of the current pose, on every view).
-    /// `transitionSpeed` (0.01–1: slow motion of the transitions alone).
+    /// `transitionSpeed` (0.01–1: slow motion of the transitions alone), `magnify` (1–16: screen
+    /// lengths enlarged about the point looked at; levels are still chosen for the real size).
     ///
     /// # Errors
     /// A message naming the first unknown key or bad value; nothing is changed then.
@@ -471,9 +472,9 @@ impl Inner {
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},",
-                "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},",
+                "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
-                "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},",
+                "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
                 "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
@@ -497,6 +498,7 @@ impl Inner {
             num(m.distance / m.framing),
             num(m.anim_time as f32),
             s.paused,
+            num(s.speed),
             num(s.yaw_degrees),
             num(s.pitch_degrees),
             num(s.pan[0]),
@@ -507,6 +509,7 @@ impl Inner {
             num(s.duration),
             num(s.zone),
             num(s.transition_speed),
+            num(s.magnify),
             m.continuous_triangles().map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
             m.layout.stacked,

@@ -28,7 +28,7 @@ pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     js_sys::Reflect::get(obj, &key.into()).ok()?.as_string()
 }
 
-const KEYS: [&str; 21] = [
+const KEYS: [&str; 22] = [
     "paused",
     "time",
     "speed",
@@ -46,6 +46,7 @@ const KEYS: [&str; 21] = [
     "duration",
     "zone",
     "transitionSpeed",
+    "magnify",
     "variant",
     "methods",
     "continuousTriangles",
@@ -140,6 +141,9 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             "zone" => u.zone = Some(number(0.0, 1.0)? as f32),
             // A hundredth of real time at the slowest: a half-second transition then takes 50 s.
             "transitionSpeed" => u.transition_speed = Some(number(0.01, 1.0)? as f32),
+            // Up to 16×: a pixel of the real view becomes a 16 × 16 block, enough to see sub-pixel
+            // changes; further, a view shows a few pixels of the real one.
+            "magnify" => u.magnify = Some(number(1.0, 16.0)? as f32),
             "variant" => {
                 let name = text()?;
                 u.variant = Some(variant_named(&name).ok_or_else(|| {

@@ -188,14 +188,25 @@ test('every control has a label and the camera answers the keyboard', async () =
 });
 
 
-test('the live page measures the pop spike of each method once a transition has been seen', async (t) => {
+test('the live page never measures on its own; the button measures the pop spike while inputs keep working', async (t) => {
   const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
   t.after(() => page.close());
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
   await page.goto(baseUrl);
   await page.waitForFunction(() => document.documentElement.dataset.state === 'ready', null, { timeout: 120_000 });
   // The three views fit a laptop screen without scrolling.
   const box = await page.locator('#viewer').boundingBox();
   assert.ok(box.y + box.height <= 720, `the views end at ${box.y + box.height} px`);
+  await page.waitForTimeout(3000);
+  assert.match(await page.locator('#stat-pop-spike').textContent(), /press/, 'no measurement started by itself');
+  await page.locator('#measure').click();
+  // Inputs during the measurement are queued, never thrown at the reader.
+  await page.evaluate(() => {
+    const speed = document.getElementById('speed');
+    speed.value = '0.5';
+    speed.dispatchEvent(new Event('input'));
+  });
   await page.waitForFunction(() => /popping [0-9.]+ ·/.test(document.getElementById('stat-pop-spike')?.textContent), null, { timeout: 180_000 });
   const spike = await page.locator('#stat-pop-spike').textContent();
   const number = (re) => Number(spike.match(re)[1]);
@@ -205,6 +216,16 @@ test('the live page measures the pop spike of each method once a transition has 
   assert.ok(pop > 0 && geomorph <= 0.1 * pop, `geomorph ${geomorph} vs popping ${pop}`);
   const text = await page.locator('#stats').textContent();
   assert.match(text, /LOD build[0-9,]+ ms \(worker\)/);
+  await page.waitForTimeout(500);
+  assert.equal(await page.evaluate(() => document.getElementById('viewer').state().speed), 0.5, 'the speed set during the measurement applied');
+  assert.deepEqual(errors, []);
+});
+
+test('a URL value that does not fit the model shown is ignored and said so', async () => {
+  const page = await openPage(browser, { clip: 'clip 0' }, SMALL_VIEWPORT);
+  const state = await frame(page, 1000, {});
+  assert.equal(state.clips[state.clip], 'Walk', 'the built-in character plays its first clip');
+  assert.match(await page.locator('#status').textContent(), /Ignored from the URL: clip: no clip "clip 0"/);
 });
 
 test('a phone-sized window stacks the views and draws all three', async () => {

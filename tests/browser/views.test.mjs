@@ -143,3 +143,19 @@ test('camera controls: pitch (clamped to ±85°), pan and resetCamera, reported 
   assert.ok(centroid(panned) < centroid(home) - 10, `pan right: centroid ${centroid(home)} → ${centroid(panned)}`);
   await assert.rejects(page.evaluate(() => window.__clod.setState({ pan: [1] })), /pan must be/);
 });
+
+test('the magnifier enlarges every view about its centre and keeps the level chosen for the real size', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const now = 1000;
+  const plain = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 3 });
+  const before = crop(await readPixels(page), plain.views[2].rect);
+  const zoomed = await frame(page, now, { magnify: 4 });
+  const after = crop(await readPixels(page), zoomed.views[2].rect);
+  assert.equal(zoomed.magnify, 4);
+  assert.equal(zoomed.selected, plain.selected, 'the level is the real size\'s');
+  assert.deepEqual(zoomed.views.map((v) => v.triangles), plain.views.map((v) => v.triangles));
+  assert.ok(foregroundFraction(after) > 3 * foregroundFraction(before),
+    `×4 covers more of the view: ${foregroundFraction(before)} → ${foregroundFraction(after)}`);
+  assert.match(await page.locator('.clod-label').first().textContent(), /×4/);
+  await frame(page, now, { magnify: 1 });
+});

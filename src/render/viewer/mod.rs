@@ -69,6 +69,7 @@ impl ViewerModel {
             yaw: settings.yaw_degrees.to_radians(),
             pitch: settings.pitch_degrees.to_radians(),
             pan: Vec2::ZERO,
+            zoom: 1.0,
         };
         let rest = plan_view(settings.methods[0], &Transition::at(0));
         let mut model = Self {
@@ -184,6 +185,7 @@ impl ViewerModel {
         self.camera.yaw = s.yaw_degrees.to_radians();
         self.camera.pitch = s.pitch_degrees.to_radians();
         self.camera.pan = Vec2::from(s.pan) * self.framing;
+        self.camera.zoom = s.magnify;
     }
 
     /// The slider's two states as `(finer, coarser)` triangle counts (equal at rest), when on:

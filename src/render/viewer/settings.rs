@@ -43,6 +43,10 @@ pub struct Settings {
     /// Slow motion of the transitions alone (1: real time, 0.1: ten times slower); the animation
     /// and the dolly keep their pace.
     pub transition_speed: f32,
+    /// Magnifier: screen lengths this many times larger about the point looked at (1: off). The
+    /// schedule still selects levels for the real size, so the change shown is the real one,
+    /// enlarged.
+    pub magnify: f32,
     pub variant: BlendVariant,
     /// Method of each view, left to right (top to bottom when stacked); only the first
     /// `view_count` are shown.
@@ -79,6 +83,7 @@ impl Default for Settings {
             duration: 0.5,
             zone: 0.25,
             transition_speed: 1.0,
+            magnify: 1.0,
             variant,
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             view_count: 3,
@@ -121,6 +126,7 @@ pub struct Update {
     pub duration: Option<f32>,
     pub zone: Option<f32>,
     pub transition_speed: Option<f32>,
+    pub magnify: Option<f32>,
     pub variant: Option<BlendVariant>,
     /// The methods of the first views and how many views there are.
     pub methods: Option<([Method; 3], usize)>,
@@ -162,6 +168,7 @@ impl Update {
         set!(duration, self.duration);
         set!(zone, self.zone);
         set!(transition_speed, self.transition_speed);
+        set!(magnify, self.magnify);
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
             s.distance_mode = DistanceMode::Manual;

@@ -158,3 +158,15 @@ fn slow_motion_slows_the_transition_only() {
     assert!((m.plans[0].transition.t - 0.02).abs() < 1e-6, "{:?}", m.plans[0].transition);
     assert!((m.anim_time - 0.1).abs() < 1e-9, "the animation keeps its pace");
 }
+
+#[test]
+fn the_magnifier_enlarges_without_changing_the_level() {
+    let mut m = model();
+    m.apply(&Update { distance_mode: Some(DistanceMode::Manual), distance: Some(3.0), ..Default::default() });
+    m.advance(0.0);
+    let plain = (m.schedule, m.switch_distances());
+    m.apply(&Update { magnify: Some(4.0), ..Default::default() });
+    m.advance(0.0);
+    assert_eq!((m.schedule, m.switch_distances()), plain, "levels are chosen for the real size");
+    assert_eq!(m.camera.zoom, 4.0);
+}
