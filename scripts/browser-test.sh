@@ -40,7 +40,8 @@ if [ "${BROWSER_TESTS:-}" = all ]; then
   files=(tests/browser/)
 else
   files=(tests/browser/views.test.mjs tests/browser/fairness.test.mjs tests/browser/pop-spike.test.mjs
-    tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/sync.test.mjs)
+    tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/sync.test.mjs
+    tests/browser/meter.test.mjs)
 fi
 echo "== browser tests against $url: ${files[*]}"
 # One file at a time: SwiftShader already uses every core.

@@ -17,7 +17,8 @@
 // only on `renderFrame`, for tests).
 // Events: `progress` (detail `{ phase, fraction }`, fraction rising to 1 across the phases
 // `fetch`, `build`, `gpu`, `ready`), `load` (detail: the viewer's state), `error` (detail
-// `{ message }`). Methods: play(), pause(), setTime(seconds), setState({...}), state(),
+// `{ message }`), `meter` (detail: `meter()`, when the live meter has measured a transition).
+// Methods: play(), pause(), setTime(seconds), setState({...}), state(), meter(), meterHistory(),
 // load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i).
 
 const here = new URL('.', import.meta.url);
@@ -166,6 +167,7 @@ export class ClodViewerElement extends HTMLElement {
   #observers = [];
   #pointers = new Map();
   #lastState = null;
+  #meterSeen = 0;
   #loadId = 0;
   #ignored = [];
 
@@ -236,6 +238,18 @@ export class ClodViewerElement extends HTMLElement {
   textureLevels(i) { return this.#requireViewer().textureLevels(i); }
   /** Resolves when the GPU has finished the submitted frames. */
   finish() { return this.#requireViewer().finish(); }
+  /**
+   * The live meter's last completed transition per method: `{ popping, alpha, geomorph }`, each
+   * `{ silhouette, shading, transitions }` (silhouette: the largest frame-to-frame change, in % of
+   * the view's pixels, of the area where the view and the full-detail reference differ in
+   * coverage; shading: the same for mean |ΔRGB| per pixel, 0..765), or null until one was seen.
+   */
+  meter() {
+    const m = this.state().meter;
+    return { popping: m.popping, alpha: m.alpha, geomorph: m.geomorph };
+  }
+  /** The meter's recent samples for a strip chart (see the README). */
+  meterHistory() { return this.#requireViewer().meterHistory(); }
   /** Measures each view's largest frame-to-frame change through one LOD switch. */
   measurePopSpike(options = {}) { return this.#requireViewer().measurePopSpike(options); }
 
@@ -440,6 +454,7 @@ export class ClodViewerElement extends HTMLElement {
     this.#ignored = ignored;
     this.#viewer?.free();
     this.#viewer = viewer;
+    this.#meterSeen = 0;
     this.#lastState = null;
     this.#backend = backend;
     this.#canvas.replaceWith(canvas);
@@ -553,6 +568,10 @@ export class ClodViewerElement extends HTMLElement {
       label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
+    if (state.meter.transitions > this.#meterSeen) {
+      this.#meterSeen = state.meter.transitions;
+      this.#emit('meter', { popping: state.meter.popping, alpha: state.meter.alpha, geomorph: state.meter.geomorph });
+    }
     return state;
   }
 

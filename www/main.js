@@ -150,6 +150,7 @@ function wireControls() {
   $('zone').addEventListener('input', (e) => set({ zone: Number(e.target.value) }));
   $('transition-speed').addEventListener('change', (e) => set({ transitionSpeed: Number(e.target.value) }));
   $('magnify').addEventListener('change', (e) => set({ magnify: Number(e.target.value) }));
+  $('meter-on').addEventListener('change', (e) => set({ meter: e.target.checked }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
   $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
   const continuous = () => {
@@ -234,6 +235,9 @@ function showStats() {
     ['Pop spike', spike ? formatSpike(spike) : measuring ? 'measuring…' : 'press “Measure pop spike” (the views pause for a few seconds)'],
   ];
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
+  rows.push(['Meter', s.meter.on ? `measured at ${s.meter.size.join(' × ')} px per view, ${s.meter.transitions} transitions` : 'off']);
+  drawMeterChart();
+  showMeterTable(s.meter);
   stats.replaceChildren(...rows.flatMap(([k, v]) => [
     Object.assign(document.createElement('dt'), { textContent: k }),
     Object.assign(document.createElement('dd'), { textContent: v, id: `stat-${k.toLowerCase().replaceAll(' ', '-')}` }),
@@ -270,6 +274,51 @@ async function measureSpike() {
     $('measure').disabled = false;
     showStats();
   }
+}
+
+// --- the live transition meter ---------------------------------------------------------------------
+
+const METHOD_COLORS = { popping: '#ff7a5c', alpha: '#f5d547', geomorph: '#5cd0ff' };
+
+// Draws the meter's last ten seconds: each view's silhouette difference from the reference (% of
+// pixels), one line per method, with a tick where each transition starts.
+function drawMeterChart() {
+  const canvas = $('meter-chart');
+  const ctx = canvas.getContext('2d');
+  const { methods, samples } = viewer.meterHistory();
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (samples.length < 2) return;
+  const t1 = samples.at(-1)[0];
+  const t0 = t1 - 10;
+  const top = Math.max(0.5, ...samples.flatMap((s) => methods.map((_, i) => s[2 + 2 * i])));
+  const x = (t) => ((t - t0) / 10) * canvas.width;
+  const y = (v) => canvas.height - 4 - (v / top) * (canvas.height - 16);
+  ctx.strokeStyle = 'rgb(255 255 255 / 0.35)';
+  for (let k = 1; k < samples.length; k++) {
+    if (samples[k][1] && !samples[k - 1][1]) { ctx.beginPath(); ctx.moveTo(x(samples[k][0]), 0); ctx.lineTo(x(samples[k][0]), canvas.height); ctx.stroke(); }
+  }
+  methods.forEach((method, i) => {
+    ctx.strokeStyle = METHOD_COLORS[method];
+    ctx.beginPath();
+    samples.forEach((s, k) => (k ? ctx.lineTo : ctx.moveTo).call(ctx, x(s[0]), y(s[2 + 2 * i])));
+    ctx.stroke();
+  });
+  ctx.fillStyle = '#fff';
+  ctx.font = '11px system-ui, sans-serif';
+  ctx.fillText(`silhouette difference from full detail, 0–${top.toFixed(1)} % of pixels, last 10 s`, 6, 12);
+}
+
+function showMeterTable(meter) {
+  const rows = ['popping', 'alpha', 'geomorph'].map((method) => {
+    const m = meter[method];
+    const cells = m ? [m.silhouette.toFixed(2), m.shading.toFixed(2)] : ['–', '–'];
+    const tr = document.createElement('tr');
+    tr.dataset.method = method;
+    tr.append(Object.assign(document.createElement('th'), { textContent: method, style: `color: ${METHOD_COLORS[method]}` }),
+      ...cells.map((c) => Object.assign(document.createElement('td'), { textContent: c })));
+    return tr;
+  });
+  $('meter-table').tBodies[0].replaceChildren(...rows);
 }
 
 let urlTimer = 0;

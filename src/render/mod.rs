@@ -10,6 +10,7 @@
 pub mod camera;
 pub mod layout;
 pub mod lod_source;
+pub mod meter;
 pub mod mipmap;
 pub mod overlay;
 pub mod plan;

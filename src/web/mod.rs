@@ -30,7 +30,9 @@ use crate::import;
 use crate::render::camera::OrbitCamera;
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
+use crate::render::meter::{frame_difference, MeterSample, TransitionMeter};
 use crate::render::overlay::bone_segments;
+use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
 use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode, Update};
 use crate::render::viewer::{animated_sphere, ViewerModel};
@@ -62,6 +64,10 @@ struct Inner {
     /// The slider's `(finer, coarser)` states the renderer holds as its continuous levels.
     continuous_uploaded: Option<(usize, usize)>,
     camera_raw: CameraRaw,
+    /// The live transition meter, and the frames drawn for it whose pictures are not back yet
+    /// (frame number, dolly seconds, the transition shown).
+    meter: TransitionMeter,
+    meter_pending: std::collections::VecDeque<(u64, f64, Transition)>,
     skin: Vec<Mat4>,
     /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
     bones: Vec<[f32; 3]>,
@@ -165,6 +171,8 @@ impl Viewer {
             last_now_ms: None,
             continuous_uploaded: None,
             camera_raw: CameraRaw::zeroed(),
+            meter: TransitionMeter::default(),
+            meter_pending: Default::default(),
             skin: Vec::new(),
             bones: Vec::new(),
             frames: 0,
@@ -239,6 +247,17 @@ impl Viewer {
             None => self.queue.borrow().last_state.clone().unwrap_or_else(|| "null".into()),
         };
         js_sys::JSON::parse(&json).map_err(|_| JsError::new("state is not JSON"))
+    }
+
+    /// The live meter's recent samples (about the last ten seconds of frames) for a strip chart:
+    /// `{ methods: [name per view], samples: [[seconds, transitionRunning, silhouette %,
+    /// shading, … per view]] }`. While a measurement holds the viewer: empty.
+    #[wasm_bindgen(js_name = meterHistory)]
+    pub fn meter_history(&self) -> Result<JsValue, JsError> {
+        let json = self
+            .lock()
+            .map_or_else(|| "{\"methods\":[],\"samples\":[]}".into(), |inner| inner.meter_history_json());
+        js_sys::JSON::parse(&json).map_err(|_| JsError::new("meter history is not JSON"))
     }
 
     /// Draws the current frame again offscreen and resolves to `{ width, height, data }` (RGBA8,
@@ -415,13 +434,100 @@ impl Inner {
             bones: &self.bones,
             views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
             overlay: m.settings.overlay,
+            meter: None,
         }
     }
 
     fn draw(&mut self) {
-        let input = self.frame_input();
+        self.collect_meter();
+        let tag = self.model.settings.meter.then_some(self.frames);
+        let mut input = self.frame_input();
+        input.meter = tag;
         self.renderer.render(&input);
+        if let Some(tag) = tag {
+            let transition = self.model.plans[0].transition;
+            self.meter_pending.push_back((tag, self.model.dolly_time, transition));
+            // Frames the GPU had no free readback for never come back.
+            while self.meter_pending.len() > 8 {
+                self.meter_pending.pop_front();
+            }
+        }
         self.frames += 1;
+    }
+
+    /// Turns the meter pictures that have come back into samples of the transition meter.
+    fn collect_meter(&mut self) {
+        for frame in self.renderer.take_meter_frames() {
+            while self.meter_pending.front().is_some_and(|(tag, ..)| *tag < frame.tag) {
+                self.meter_pending.pop_front();
+            }
+            let Some((tag, time, transition)) = self.meter_pending.pop_front().filter(|p| p.0 == frame.tag)
+            else {
+                continue;
+            };
+            let Some(reference) = frame.pictures.first() else { continue };
+            let mut differences = vec![None; frame.pictures.len()];
+            let views = frame
+                .view_picture
+                .iter()
+                .map(|&p| {
+                    *differences[p].get_or_insert_with(|| frame_difference(reference, &frame.pictures[p]))
+                })
+                .collect();
+            self.meter.push(MeterSample { frame: tag, time, transition, views });
+        }
+    }
+
+    /// The meter's summary for `state()`: per method, the last completed transition's pop
+    /// (silhouette in percent of the view's pixels, shading in mean |ΔRGB| 0..765), or null.
+    fn meter_json(&self) -> String {
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
+        let by_method = |name: &str| -> String {
+            let Some(last) = &self.meter.last else { return "null".into() };
+            let pops: Vec<_> =
+                methods.iter().zip(last).filter(|(m, _)| method_name(**m) == name).map(|(_, p)| *p).collect();
+            if pops.is_empty() {
+                return "null".into();
+            }
+            let silhouette = pops.iter().map(|p| p.silhouette).fold(0.0, f32::max);
+            let shading = pops.iter().map(|p| p.shading).fold(0.0, f32::max);
+            format!(
+                "{{\"silhouette\":{},\"shading\":{},\"transitions\":{}}}",
+                num(100.0 * silhouette),
+                num(shading),
+                self.meter.transitions
+            )
+        };
+        format!(
+            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{}}}",
+            self.model.settings.meter,
+            (crate::render::gpu::METER_HEIGHT as f32 * self.model.layout.views[0].aspect()).round(),
+            crate::render::gpu::METER_HEIGHT,
+            self.meter.transitions,
+            self.meter.history.len(),
+            self.meter.gaps,
+            by_method("popping"),
+            by_method("alpha"),
+            by_method("geomorph"),
+        )
+    }
+
+    /// The meter's recent samples for the page's strip chart: `{ methods, samples: [[time,
+    /// transitionRunning, silhouette % and shading of each view…]] }`, oldest first.
+    fn meter_history_json(&self) -> String {
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
+        let names: Vec<String> = methods.iter().map(|m| json_str(method_name(*m))).collect();
+        let samples: Vec<String> = self
+            .meter
+            .history
+            .iter()
+            .map(|s| {
+                let values: Vec<String> =
+                    s.views.iter().flat_map(|v| [num(100.0 * v.silhouette), num(v.shading)]).collect();
+                format!("[{},{},{}]", num(s.time as f32), s.transition.is_running(), values.join(","))
+            })
+            .collect();
+        format!("{{\"methods\":[{}],\"samples\":[{}]}}", names.join(","), samples.join(","))
     }
 
     /// Triangles of a drawn level: a discrete one, or the slider's finer (`levels`) or coarser
@@ -475,7 +581,7 @@ impl Inner {
                 "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
-                "\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
+                "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
                 "\"errors\":[{}],\"warnings\":[{}]}}"
             ),
             json_str(self.renderer.backend),
@@ -510,6 +616,7 @@ impl Inner {
             num(s.zone),
             num(s.transition_speed),
             num(s.magnify),
+            self.meter_json(),
             m.continuous_triangles().map_or("null".to_string(), |t| t.to_string()),
             self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
             m.layout.stacked,

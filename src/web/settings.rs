@@ -28,7 +28,7 @@ pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     js_sys::Reflect::get(obj, &key.into()).ok()?.as_string()
 }
 
-const KEYS: [&str; 22] = [
+const KEYS: [&str; 23] = [
     "paused",
     "time",
     "speed",
@@ -47,6 +47,7 @@ const KEYS: [&str; 22] = [
     "zone",
     "transitionSpeed",
     "magnify",
+    "meter",
     "variant",
     "methods",
     "continuousTriangles",
@@ -144,6 +145,9 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             // Up to 16×: a pixel of the real view becomes a 16 × 16 block, enough to see sub-pixel
             // changes; further, a view shows a few pixels of the real one.
             "magnify" => u.magnify = Some(number(1.0, 16.0)? as f32),
+            "meter" => {
+                u.meter = Some(value.as_bool().ok_or_else(|| "meter must be true or false".to_string())?)
+            }
             "variant" => {
                 let name = text()?;
                 u.variant = Some(variant_named(&name).ok_or_else(|| {

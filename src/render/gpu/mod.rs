@@ -18,6 +18,8 @@ use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
 mod frame_targets;
+mod meter;
+pub use meter::{MeterFrame, METER_HEIGHT};
 mod mipmaps;
 pub use mipmaps::TextureLevel;
 mod pipelines;
@@ -65,8 +67,9 @@ const BONE_VERTEX_STRIDE: u64 = 12;
 /// Bone-line vertices the buffer holds: two per joint is more than enough, as every bone ends at
 /// a joint and the topmost joint starts none (at most `MAX_JOINTS - 1` bones).
 const BONE_VERTICES: usize = 2 * MAX_JOINTS;
-/// Draw-call slots of the per-draw uniform buffer: 3 views × 2 draws at most.
-const DRAW_SLOTS: u64 = 6;
+/// Draw-call slots of the per-draw uniform buffer, all written before one submit: 3 views × 2
+/// draws, and the live meter's reference and 3 views × 2 draws again.
+const DRAW_SLOTS: u64 = 13;
 /// Level-skipping geomorph buffers kept: a dolly moves between neighbouring pairs, so a few
 /// cover it, and each costs as much as its fine level's vertex buffer (3.7 MB for the built-in
 /// character's finest level).
@@ -108,6 +111,8 @@ pub struct FrameInput<'a> {
     pub views: [(Rect, &'a ViewPlan); 3],
     /// Drawn over every view alike.
     pub overlay: Overlay,
+    /// Measure this frame for the live meter, tagged with this number (see [`meter`]).
+    pub meter: Option<u64>,
 }
 
 /// Pixels read back from an offscreen render of a frame: RGBA8, sRGB-encoded, rows top first.
@@ -150,6 +155,8 @@ pub struct Renderer {
     /// Vertex buffers of level `fine` paired with its ancestors in level `coarse > fine + 1`, for
     /// geomorphs that skip levels; most recently used last, at most [`MORPH_PAIRS`].
     morph_pairs: Vec<((usize, usize), wgpu::Buffer)>,
+    /// The live meter's targets and readbacks, made on first use.
+    meter: std::cell::RefCell<Option<meter::MeterGpu>>,
     pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     /// `webgpu` or `webgl2`, and the adapter's name.
@@ -301,6 +308,7 @@ impl Renderer {
             levels,
             continuous: Vec::new(),
             morph_pairs: Default::default(),
+            meter: Default::default(),
             pipelines,
             errors,
             backend,
@@ -404,6 +412,9 @@ impl Renderer {
         };
         let commands = self.encode(frame, &texture.texture);
         self.queue.submit([commands]);
+        if frame.meter.is_some() {
+            self.map_meter();
+        }
         self.queue.present(texture);
     }
 
@@ -499,6 +510,9 @@ impl Renderer {
             }
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
+        }
+        if let Some(tag) = frame.meter {
+            self.encode_meter(&mut encoder, frame, tag, &mut slot);
         }
         encoder.finish()
     }

@@ -144,7 +144,13 @@ pub(super) fn create_pipelines(
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: color_format,
-                    blend: spec.blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+                    // Colour blends as usual; alpha accumulates coverage ("over"), so a target
+                    // cleared to alpha 0 ends at alpha ≥ the most opaque layer: the live meter
+                    // reads the silhouette from it. Views cleared to alpha 1 stay at 1.
+                    blend: spec.blend.then_some(wgpu::BlendState {
+                        color: wgpu::BlendState::ALPHA_BLENDING.color,
+                        alpha: wgpu::BlendComponent::OVER,
+                    }),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),

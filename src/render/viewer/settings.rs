@@ -47,6 +47,8 @@ pub struct Settings {
     /// schedule still selects levels for the real size, so the change shown is the real one,
     /// enlarged.
     pub magnify: f32,
+    /// The live transition meter runs (four small extra draws and a readback per frame).
+    pub meter: bool,
     pub variant: BlendVariant,
     /// Method of each view, left to right (top to bottom when stacked); only the first
     /// `view_count` are shown.
@@ -84,6 +86,7 @@ impl Default for Settings {
             zone: 0.25,
             transition_speed: 1.0,
             magnify: 1.0,
+            meter: true,
             variant,
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             view_count: 3,
@@ -127,6 +130,7 @@ pub struct Update {
     pub zone: Option<f32>,
     pub transition_speed: Option<f32>,
     pub magnify: Option<f32>,
+    pub meter: Option<bool>,
     pub variant: Option<BlendVariant>,
     /// The methods of the first views and how many views there are.
     pub methods: Option<([Method; 3], usize)>,
@@ -169,6 +173,7 @@ impl Update {
         set!(zone, self.zone);
         set!(transition_speed, self.transition_speed);
         set!(magnify, self.magnify);
+        set!(meter, self.meter);
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
             s.distance_mode = DistanceMode::Manual;

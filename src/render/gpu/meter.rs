@@ -1,0 +1,199 @@
+//! The live meter's GPU side (see [`crate::render::meter`]): each measured frame draws the
+//! full-detail reference and every view's plan, at the same pose and camera, into small targets
+//! cleared to alpha 0, copies them into a mappable buffer and maps it; a later frame reads the
+//! pictures once the map has resolved. Nothing waits: a frame whose buffers are all in flight is
+//! not measured.
+
+use std::cell::Cell;
+use std::rc::Rc;
+
+use super::*;
+use crate::render::plan::{plan_view, Method};
+use crate::render::schedule::Transition;
+
+/// Height of the meter's pictures, pixels (the width follows the view's aspect). At 128 px the
+/// built-in character's last switch changes 9 pixels of area and a geomorph's sub-pixel edge
+/// noise reaches a quarter of that in one frame (measured); at 256 px, a twelfth.
+pub const METER_HEIGHT: u32 = 256;
+/// Readbacks in flight at once: a map resolves a frame or two after its submit.
+const IN_FLIGHT: usize = 3;
+
+/// The pictures of one measured frame, RGBA8 or BGRA8 (the channel order does not matter to the
+/// difference), rows top first: `pictures[0]` is the reference, `pictures[view_picture[i]]` view
+/// `i`'s (views with the same plan, and views at rest on level 0, share a picture: they are the
+/// same pixels, as the fairness test checks).
+pub struct MeterFrame {
+    pub tag: u64,
+    pub width: u32,
+    pub height: u32,
+    pub pictures: Vec<Vec<u8>>,
+    pub view_picture: Vec<usize>,
+}
+
+struct Readback {
+    buffer: wgpu::Buffer,
+    /// `None` while mapping, then whether it mapped.
+    mapped: Rc<Cell<Option<bool>>>,
+    tag: u64,
+    pictures: usize,
+    view_picture: Vec<usize>,
+}
+
+pub(super) struct MeterGpu {
+    width: u32,
+    height: u32,
+    textures: Vec<wgpu::Texture>,
+    views: Vec<wgpu::TextureView>,
+    msaa: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+    free: Vec<wgpu::Buffer>,
+    in_flight: Vec<Readback>,
+}
+
+/// Bytes per padded row of a texture-to-buffer copy (WebGPU pads rows to 256).
+fn padded_row(width: u32) -> u32 {
+    (4 * width).div_ceil(256) * 256
+}
+
+impl MeterGpu {
+    fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sample_count: u32, aspect: f32) -> Self {
+        let height = METER_HEIGHT;
+        let width = ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT);
+        let textures: Vec<_> = (0..4)
+            .map(|_| {
+                device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("meter picture"),
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                })
+            })
+            .collect();
+        let views = textures.iter().map(|t| t.create_view(&Default::default())).collect();
+        let (depth, msaa) = frame_targets::targets(device, format, sample_count, width, height);
+        Self { width, height, textures, views, msaa, depth, free: Vec::new(), in_flight: Vec::new() }
+    }
+}
+
+impl Renderer {
+    /// Records the meter's draws of `frame` (tagged `tag`) into `encoder` and returns the buffer
+    /// to map after the submit, or `None` when every readback is in flight.
+    pub(super) fn encode_meter(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameInput,
+        tag: u64,
+        slot: &mut u64,
+    ) -> Option<()> {
+        let aspect = frame.views[0].0.aspect();
+        let mut cache = self.meter.borrow_mut();
+        let fits = |m: &MeterGpu| {
+            m.width == ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT)
+        };
+        if !cache.as_ref().is_some_and(fits) {
+            *cache = Some(MeterGpu::new(&self.device, self.color_format, self.sample_count, aspect));
+        }
+        let meter = cache.as_mut().expect("just made");
+        if meter.in_flight.len() >= IN_FLIGHT {
+            return None;
+        }
+        let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
+        let reference = plan_view(Method::Popping, &Transition::at(0));
+        // Each distinct plan once: at rest every view draws the same, often level 0 itself.
+        let mut plans: Vec<&ViewPlan> = vec![&reference];
+        let view_picture: Vec<usize> = frame.views[..views]
+            .iter()
+            .map(|(_, plan)| {
+                plans.iter().position(|p| p.draws == plan.draws).unwrap_or_else(|| {
+                    plans.push(plan);
+                    plans.len() - 1
+                })
+            })
+            .collect();
+        let clear = wgpu::Color { a: 0.0, ..frame_targets::background_for(self.color_format) };
+        for (i, plan) in plans.iter().enumerate() {
+            let (color, resolve) = match &meter.msaa {
+                Some(msaa) => (msaa, Some(&meter.views[i])),
+                None => (&meter.views[i], None),
+            };
+            let mut pass = frame_targets::begin_pass(encoder, color, resolve, Some(&meter.depth), clear);
+            self.draw_view(&mut pass, plan, Overlay::None, [0.0; 2], slot);
+        }
+        let row = padded_row(meter.width);
+        let picture_bytes = u64::from(row) * u64::from(meter.height);
+        let buffer = meter.free.pop().unwrap_or_else(|| {
+            self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("meter readback"),
+                size: 4 * picture_bytes,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            })
+        });
+        for (i, texture) in meter.textures.iter().enumerate().take(plans.len()) {
+            encoder.copy_texture_to_buffer(
+                texture.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: i as u64 * picture_bytes,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(meter.height),
+                    },
+                },
+                texture.size(),
+            );
+        }
+        let pictures = plans.len();
+        meter.in_flight.push(Readback { buffer, mapped: Rc::default(), tag, pictures, view_picture });
+        Some(())
+    }
+
+    /// Starts mapping the readback recorded last (after its submit).
+    pub(super) fn map_meter(&self) {
+        let cache = self.meter.borrow();
+        let Some(readback) = cache.as_ref().and_then(|m| m.in_flight.last()) else { return };
+        if Rc::strong_count(&readback.mapped) > 1 || readback.mapped.get().is_some() {
+            return; // already mapping
+        }
+        let done = Rc::clone(&readback.mapped);
+        readback.buffer.map_async(wgpu::MapMode::Read, .., move |r| done.set(Some(r.is_ok())));
+    }
+
+    /// The measured frames whose readbacks have arrived, oldest first. WebGL2 resolves maps only
+    /// when polled, so this polls first; it never waits.
+    pub fn take_meter_frames(&self) -> Vec<MeterFrame> {
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        let mut cache = self.meter.borrow_mut();
+        let Some(meter) = cache.as_mut() else { return Vec::new() };
+        let (width, height) = (meter.width, meter.height);
+        let row = padded_row(width) as usize;
+        let mut out = Vec::new();
+        while meter.in_flight.first().is_some_and(|r| r.mapped.get().is_some()) {
+            let readback = meter.in_flight.remove(0);
+            if readback.mapped.get() == Some(true) {
+                if let Ok(mapped) = readback.buffer.get_mapped_range(..) {
+                    let pictures = mapped
+                        .chunks_exact(row * height as usize)
+                        .take(readback.pictures)
+                        .map(|picture| {
+                            picture
+                                .chunks_exact(row)
+                                .flat_map(|line| &line[..4 * width as usize])
+                                .copied()
+                                .collect()
+                        })
+                        .collect();
+                    let view_picture = readback.view_picture.clone();
+                    out.push(MeterFrame { tag: readback.tag, width, height, pictures, view_picture });
+                }
+                readback.buffer.unmap();
+            }
+            meter.free.push(readback.buffer);
+        }
+        out
+    }
+}

@@ -1,0 +1,195 @@
+//! The live transition meter: how far each view's picture is from the full-detail reference drawn
+//! at the same pose and camera, every frame, and how much of that changes at once while a
+//! transition runs (its *pop*).
+//!
+//! Two channels, after Larkin (2011), who found the silhouette the cue people notice first:
+//! - **silhouette**: how much of the view's area the two pictures cover differently,
+//!   `Σ |α_reference − α_view|` over the pixels divided by their number. Coverage is the target's
+//!   alpha: cleared to 0, brought to 1 by opaque surfaces, to the layer's opacity by a fading
+//!   one, and to the covered share of a pixel's samples by the MSAA resolve, so an edge that moves
+//!   by a fraction of a pixel, or a level that fades in, changes it by a fraction, not a whole
+//!   pixel at a threshold;
+//! - **shading**: `|ΔR| + |ΔG| + |ΔB|` (0..765, 8-bit sRGB) summed over the pixels both cover
+//!   fully (alpha 255), divided by all of the view's pixels.
+//!
+//! The reference moves with the animation and the camera, so their motion cancels out of the
+//! difference; what is left is the level's error. A transition's pop, per channel, is the largest
+//! frame-to-frame change of that difference from the last frame before it starts to the first
+//! frame after it ends: popping's change lands in one frame, a geomorph's is spread over all of
+//! them. Frames arrive a frame or two late (read back asynchronously) and may skip one when the
+//! GPU is slow; a skipped frame makes the next change count over two frames (reported by `gap`).
+
+use std::collections::VecDeque;
+
+use super::schedule::Transition;
+
+/// A view's difference from the reference in one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameDifference {
+    /// Area (a share of the view, 0..1) the two pictures cover differently.
+    pub silhouette: f32,
+    /// Mean `|ΔRGB|` per pixel of the view (0..765) over pixels both cover fully.
+    pub shading: f32,
+}
+
+/// The difference of two RGBA8 pictures of the same size (see the module docs).
+///
+/// # Panics
+/// If the slices differ in length.
+pub fn frame_difference(reference: &[u8], view: &[u8]) -> FrameDifference {
+    assert_eq!(reference.len(), view.len(), "pictures of one size");
+    let pixels = reference.len() / 4;
+    if pixels == 0 {
+        return FrameDifference::default();
+    }
+    let mut outline = 0u64;
+    let mut shading = 0u64;
+    for (r, v) in reference.chunks_exact(4).zip(view.chunks_exact(4)) {
+        outline += u64::from(r[3].abs_diff(v[3]));
+        if r[3] == 255 && v[3] == 255 {
+            shading += (0..3).map(|c| u64::from(r[c].abs_diff(v[c]))).sum::<u64>();
+        }
+    }
+    FrameDifference {
+        silhouette: outline as f32 / (255.0 * pixels as f32),
+        shading: shading as f32 / pixels as f32,
+    }
+}
+
+/// One measured frame: the transition every view showed and each view's difference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeterSample {
+    /// Frame number (consecutive frames differ by 1).
+    pub frame: u64,
+    /// Viewer seconds (the dolly clock) when the frame was drawn.
+    pub time: f64,
+    pub transition: Transition,
+    pub views: Vec<FrameDifference>,
+}
+
+/// The pop of one transition in one view: the largest frame-to-frame change of each channel.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pop {
+    pub silhouette: f32,
+    pub shading: f32,
+}
+
+impl Pop {
+    fn grow(&mut self, before: &FrameDifference, after: &FrameDifference) {
+        self.silhouette = self.silhouette.max((after.silhouette - before.silhouette).abs());
+        self.shading = self.shading.max((after.shading - before.shading).abs());
+    }
+}
+
+/// Samples kept for the page's strip chart: ten seconds at 60 frames per second.
+pub const HISTORY: usize = 600;
+
+/// Collects samples into transitions (see the module docs).
+#[derive(Clone, Debug, Default)]
+pub struct TransitionMeter {
+    previous: Option<MeterSample>,
+    /// The running transition's pops so far, per view, and its `(from, to)`.
+    open: Option<((usize, usize), Vec<Pop>)>,
+    /// The last completed transition's pop per view.
+    pub last: Option<Vec<Pop>>,
+    /// Transitions completed.
+    pub transitions: u32,
+    /// Frames measured that did not follow the previous one (a readback was skipped).
+    pub gaps: u32,
+    /// The latest samples, oldest first, at most [`HISTORY`].
+    pub history: VecDeque<MeterSample>,
+}
+
+impl TransitionMeter {
+    /// Adds a frame's sample (frames in increasing order); returns whether a transition ended
+    /// with it. A sample whose view count differs from the previous one starts afresh (the page
+    /// changed its views).
+    pub fn push(&mut self, sample: MeterSample) -> bool {
+        let mut completed = false;
+        if let Some(previous) = self.previous.take().filter(|p| p.views.len() == sample.views.len()) {
+            if sample.frame != previous.frame + 1 {
+                self.gaps += 1;
+            }
+            let shown = |t: &Transition| t.is_running().then_some((t.from, t.to));
+            let (before, now) = (shown(&previous.transition), shown(&sample.transition));
+            if self.open.is_some() && before != now {
+                // Ended (or replaced by the next queued one): the jump of this frame is the next's.
+                let (_, pops) = self.open.take().expect("checked");
+                self.last = Some(pops);
+                self.transitions += 1;
+                completed = true;
+            }
+            if let (Some(key), None) = (now, &self.open) {
+                self.open = Some((key, vec![Pop::default(); sample.views.len()]));
+            }
+            let grow_into = self.open.as_mut().map(|(_, pops)| pops);
+            let closing = if completed { self.last.as_mut() } else { None };
+            // The frame a transition ends on still belongs to it (the last step to the new level).
+            for pops in grow_into.into_iter().chain(closing) {
+                for ((pop, a), b) in pops.iter_mut().zip(&previous.views).zip(&sample.views) {
+                    pop.grow(a, b);
+                }
+            }
+        } else {
+            self.open = None;
+        }
+        if self.history.len() == HISTORY {
+            self.history.pop_front();
+        }
+        self.history.push_back(sample.clone());
+        self.previous = Some(sample);
+        completed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn rgba(pixels: &[(u8, u8)]) -> Vec<u8> {
+        pixels.iter().flat_map(|&(g, alpha)| [g, g, g, alpha]).collect()
+    }
+
+    #[test]
+    fn silhouette_sums_coverage_that_differs_and_shading_the_rest() {
+        let reference = rgba(&[(10, 255), (10, 255), (0, 0), (50, 0), (7, 255)]);
+        let view = rgba(&[(20, 255), (10, 0), (0, 255), (90, 0), (9, 51)]);
+        let d = frame_difference(&reference, &view);
+        assert!((d.silhouette - 2.8 / 5.0).abs() < 1e-6, "pixels 1 and 2 whole, 4 by 0.8: {}", d.silhouette);
+        assert_eq!(
+            d.shading,
+            30.0 / 5.0,
+            "|Δ| 10 in three channels over five pixels; partly covered and background ignored"
+        );
+        assert_eq!(frame_difference(&[], &[]), FrameDifference::default());
+    }
+
+    fn sample(frame: u64, transition: Transition, silhouette: [f32; 2]) -> MeterSample {
+        let views =
+            silhouette.iter().map(|&s| FrameDifference { silhouette: s, shading: 10.0 * s }).collect();
+        MeterSample { frame, time: frame as f64 / 60.0, transition, views }
+    }
+
+    #[test]
+    fn a_pop_is_the_largest_change_from_just_before_to_the_end() {
+        let mut meter = TransitionMeter::default();
+        let rest = Transition::at(0);
+        let run = |t| Transition { from: 0, to: 2, t };
+        // View 0 pops at the switch; view 1 moves by 0.1 a frame.
+        assert!(!meter.push(sample(1, rest, [0.0, 0.0])));
+        assert!(!meter.push(sample(2, run(0.0), [0.5, 0.1])));
+        assert!(!meter.push(sample(3, run(0.5), [0.5, 0.2])));
+        assert!(meter.push(sample(4, Transition::at(2), [0.5, 0.5])), "ends at rest");
+        let pops = meter.last.clone().unwrap();
+        assert_eq!((pops[0].silhouette, pops[0].shading), (0.5, 5.0));
+        assert!((pops[1].silhouette - 0.3).abs() < 1e-6, "the last step counts: {:?}", pops[1]);
+        assert_eq!((meter.transitions, meter.gaps), (1, 0));
+        // A queued transition follows at once: the first closes, the second opens.
+        assert!(!meter.push(sample(5, Transition { from: 2, to: 3, t: 0.0 }, [0.6, 0.5])));
+        assert!(meter.push(sample(7, Transition { from: 3, to: 1, t: 0.0 }, [0.6, 0.5])));
+        assert_eq!((meter.transitions, meter.gaps), (2, 1));
+        assert_eq!(meter.history.len(), 6);
+    }
+}
