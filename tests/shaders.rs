@@ -3,6 +3,7 @@
 //! WebGL2, and each uniform struct has the size of its `#[repr(C)]` Rust mirror (naga's layouter
 //! gives WGSL's size).
 
+use clod_viewer::render::difference::{AreaRaw, DIFFERENCE_WGSL};
 use clod_viewer::render::mipmap::MIPMAP_WGSL;
 use clod_viewer::render::uniforms::{MAX_JOINTS, MIRRORS, SKIN_WGSL};
 use naga::back::glsl;
@@ -55,6 +56,18 @@ fn skin_shader_translates_to_webgl2_glsl() {
 fn mipmap_shader_validates_and_translates_to_webgl2_glsl() {
     assert_eq!(entry_points(MIPMAP_WGSL), ["fs_mip", "vs_mip"]);
     translates_to_webgl2_glsl(MIPMAP_WGSL);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn difference_shader_validates_translates_and_matches_its_uniform_mirror() {
+    assert_eq!(entry_points(DIFFERENCE_WGSL), ["fs_difference", "vs_difference"]);
+    translates_to_webgl2_glsl(DIFFERENCE_WGSL);
+    let (module, _) = parse_and_validate(DIFFERENCE_WGSL);
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let area = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Area")).expect("struct Area");
+    assert_eq!(layouter[area.0].size as usize, std::mem::size_of::<AreaRaw>());
 }
 
 /// Every entry point of `source` translates to GLSL ES 3.00, as wgpu does for WebGL2.

@@ -23,6 +23,9 @@ pub enum Overlay {
     Levels,
     /// The skin's bones, bright lines drawn through the body.
     Skeleton,
+    /// A heat map of where each view differs from the full-detail reference (the live meter's
+    /// pictures, `difference.wgsl`): magenta for coverage, amber for colour.
+    Difference,
 }
 
 /// Distinct colours for levels 0, 1, 2, … (linear RGB), repeating after the last: blue, orange,

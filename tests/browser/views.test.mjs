@@ -159,3 +159,29 @@ test('the magnifier enlarges every view about its centre and keeps the level cho
   assert.match(await page.locator('.clod-label').first().textContent(), /×4/);
   await frame(page, now, { magnify: 1 });
 });
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`${backend}: the difference overlay tints where a view differs from full detail, and nothing at full detail`, async () => {
+    const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
+    const now = 1000;
+    const views = async () => { const p = await readPixels(page); return (await frame(page, now, {})).views.map((v) => crop(p, v.rect)); };
+    const fine = await frame(page, now, { paused: true, time: 0.4, distanceMode: 'manual', distance: 1, tolerance: FINEST_TOLERANCE, duration: 0, overlay: 'none' });
+    assert.ok(fine.views.every((v) => v.level === 0));
+    const plain = await views();
+    await frame(page, now, { overlay: 'difference' });
+    const same = await views();
+    plain.forEach((p, i) => assert.equal(meanAbsDiff(p, same[i]), 0, `view ${i} at full detail is untouched`));
+    const coarse = await frame(page, now, { tolerance: 500, overlay: 'none' });
+    assert.ok(coarse.views.every((v) => v.level === coarse.levels.length - 1), 'the coarsest level');
+    const coarsePlain = await views();
+    await frame(page, now, { overlay: 'difference' });
+    const heat = await views();
+    heat.forEach((h, i) => {
+      let magenta = 0;
+      for (let k = 0; k < h.length; k += 3) if (h[k] > 150 && h[k + 2] > 120 && h[k + 1] < 0.6 * h[k]) magenta++;
+      assert.ok(meanAbsDiff(h, coarsePlain[i]) > 0 && magenta > 20, `view ${i}: ${magenta} magenta pixels`);
+    });
+    await savePng(`/tmp/clod-difference-${backend}.png`, await readPixels(page));
+    await frame(page, now, { overlay: 'none' });
+  });
+}

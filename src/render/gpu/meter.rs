@@ -56,6 +56,11 @@ fn padded_row(width: u32) -> u32 {
 }
 
 impl MeterGpu {
+    /// Picture `i` of the frame being recorded (0: the reference).
+    pub(super) fn picture(&self, i: usize) -> Option<&wgpu::TextureView> {
+        self.views.get(i)
+    }
+
     fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sample_count: u32, aspect: f32) -> Self {
         let height = METER_HEIGHT;
         let width = ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT);
@@ -68,7 +73,10 @@ impl MeterGpu {
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
                     format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    // Sampled by the difference overlay.
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::COPY_SRC
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
                     view_formats: &[],
                 })
             })
@@ -80,15 +88,17 @@ impl MeterGpu {
 }
 
 impl Renderer {
-    /// Records the meter's draws of `frame` (tagged `tag`) into `encoder` and returns the buffer
-    /// to map after the submit, or `None` when every readback is in flight.
+    /// Records the meter's draws of `frame` into `encoder` and returns the picture of each view
+    /// (an index; 0 is the reference). With `tag`, the pictures are also copied for reading back
+    /// (started by [`Renderer::map_meter`] after the submit) unless every readback is in flight;
+    /// without, they are drawn for the difference overlay only.
     pub(super) fn encode_meter(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameInput,
-        tag: u64,
+        tag: Option<u64>,
         slot: &mut u64,
-    ) -> Option<()> {
+    ) -> Vec<usize> {
         let aspect = frame.views[0].0.aspect();
         let mut cache = self.meter.borrow_mut();
         let fits = |m: &MeterGpu| {
@@ -98,9 +108,6 @@ impl Renderer {
             *cache = Some(MeterGpu::new(&self.device, self.color_format, self.sample_count, aspect));
         }
         let meter = cache.as_mut().expect("just made");
-        if meter.in_flight.len() >= IN_FLIGHT {
-            return None;
-        }
         let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
         let reference = plan_view(Method::Popping, &Transition::at(0));
         // Each distinct plan once: at rest every view draws the same, often level 0 itself.
@@ -123,6 +130,7 @@ impl Renderer {
             let mut pass = frame_targets::begin_pass(encoder, color, resolve, Some(&meter.depth), clear);
             self.draw_view(&mut pass, plan, Overlay::None, [0.0; 2], slot);
         }
+        let Some(tag) = tag.filter(|_| meter.in_flight.len() < IN_FLIGHT) else { return view_picture };
         let row = padded_row(meter.width);
         let picture_bytes = u64::from(row) * u64::from(meter.height);
         let buffer = meter.free.pop().unwrap_or_else(|| {
@@ -148,8 +156,14 @@ impl Renderer {
             );
         }
         let pictures = plans.len();
-        meter.in_flight.push(Readback { buffer, mapped: Rc::default(), tag, pictures, view_picture });
-        Some(())
+        meter.in_flight.push(Readback {
+            buffer,
+            mapped: Rc::default(),
+            tag,
+            pictures,
+            view_picture: view_picture.clone(),
+        });
+        view_picture
     }
 
     /// Starts mapping the readback recorded last (after its submit).

@@ -17,6 +17,7 @@ use thiserror::Error;
 use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
+mod difference;
 mod frame_targets;
 mod meter;
 pub use meter::{MeterFrame, METER_HEIGHT};
@@ -157,6 +158,8 @@ pub struct Renderer {
     morph_pairs: Vec<((usize, usize), wgpu::Buffer)>,
     /// The live meter's targets and readbacks, made on first use.
     meter: std::cell::RefCell<Option<meter::MeterGpu>>,
+    /// The difference overlay's pipeline.
+    difference: Option<difference::DifferenceGpu>,
     pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     /// `webgpu` or `webgl2`, and the adapter's name.
@@ -288,6 +291,7 @@ impl Renderer {
         let composed = config.usage.contains(wgpu::TextureUsages::COPY_DST);
         let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
         let info = adapter.get_info();
+        let difference = Some(difference::DifferenceGpu::new(&device, color_format, sample_count));
         Ok(Self {
             device,
             queue,
@@ -309,6 +313,7 @@ impl Renderer {
             continuous: Vec::new(),
             morph_pairs: Default::default(),
             meter: Default::default(),
+            difference,
             pipelines,
             errors,
             backend,
@@ -443,6 +448,18 @@ impl Renderer {
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut slot = 0u64;
+        // The meter's pictures first: the difference overlay reads them in the views' passes.
+        let difference = frame.overlay == Overlay::Difference;
+        let pictures = if frame.meter.is_some() || difference {
+            self.encode_meter(&mut encoder, frame, frame.meter, &mut slot)
+        } else {
+            Vec::new()
+        };
+        let heat = |pass: &mut wgpu::RenderPass, i: usize, origin: [f32; 2], rect: &Rect| {
+            if let Some(&picture) = pictures.get(i).filter(|_| difference) {
+                self.draw_difference(pass, i, origin, rect, picture);
+            }
+        };
         if self.composed {
             // The background (gaps between views), then each view drawn at its texture's origin
             // and copied into place.
@@ -467,6 +484,7 @@ impl Renderer {
                     let mut pass =
                         begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
                     self.draw_view(&mut pass, plan, frame.overlay, [0.0; 2], &mut slot);
+                    heat(&mut pass, i, [0.0; 2], rect);
                     self.draw_bones(&mut pass, bones);
                 }
                 encoder.copy_texture_to_texture(
@@ -492,7 +510,7 @@ impl Renderer {
                 Some(depth),
                 background_for(self.color_format),
             );
-            for (rect, plan) in &frame.views {
+            for (i, (rect, plan)) in frame.views.iter().enumerate() {
                 if !visible(rect) {
                     continue;
                 }
@@ -506,13 +524,11 @@ impl Renderer {
                 );
                 pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
                 self.draw_view(&mut pass, plan, frame.overlay, [rect.x as f32, rect.y as f32], &mut slot);
+                heat(&mut pass, i, [rect.x as f32, rect.y as f32], rect);
                 self.draw_bones(&mut pass, bones);
             }
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
-        }
-        if let Some(tag) = frame.meter {
-            self.encode_meter(&mut encoder, frame, tag, &mut slot);
         }
         encoder.finish()
     }

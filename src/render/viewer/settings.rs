@@ -196,7 +196,7 @@ pub const METHOD_NAMES: [&str; 3] = ["popping", "alpha", "geomorph"];
 /// The page's names of the alpha-blending variants.
 pub const VARIANT_NAMES: [&str; 3] = ["opaque-first", "naive", "dither"];
 /// The page's names of the overlays.
-pub const OVERLAY_NAMES: [&str; 4] = ["none", "wireframe", "levels", "skeleton"];
+pub const OVERLAY_NAMES: [&str; 5] = ["none", "wireframe", "levels", "skeleton", "difference"];
 
 /// The page's name of a method.
 pub fn method_name(m: Method) -> &'static str {
@@ -239,12 +239,13 @@ pub fn overlay_name(o: Overlay) -> &'static str {
         Overlay::Wireframe => OVERLAY_NAMES[1],
         Overlay::Levels => OVERLAY_NAMES[2],
         Overlay::Skeleton => OVERLAY_NAMES[3],
+        Overlay::Difference => OVERLAY_NAMES[4],
     }
 }
 
 /// The overlay of a page name.
 pub fn overlay_named(name: &str) -> Option<Overlay> {
-    [Overlay::None, Overlay::Wireframe, Overlay::Levels, Overlay::Skeleton]
+    [Overlay::None, Overlay::Wireframe, Overlay::Levels, Overlay::Skeleton, Overlay::Difference]
         .into_iter()
         .find(|&o| overlay_name(o) == name)
 }
