@@ -27,6 +27,7 @@ use wasm_bindgen::JsCast;
 use crate::character::Character;
 use crate::clod::{self, Clod, ClodOptions};
 use crate::import;
+use crate::js_options;
 use crate::render::camera::OrbitCamera;
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
@@ -103,7 +104,7 @@ impl Viewer {
         bytes: Vec<u8>,
         options: JsValue,
     ) -> Result<Viewer, JsValue> {
-        let backend = settings::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
+        let backend = js_options::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
         let choice = match backend.as_str() {
             "webgpu" => BackendChoice::WebGpu,
             "webgl2" if cfg!(feature = "webgl") => BackendChoice::WebGl2,
@@ -116,7 +117,8 @@ impl Viewer {
                 )
             }
         };
-        let resolve = settings::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
+        let resolve =
+            js_options::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
         let mut resolver = |uri: &str| -> Option<Vec<u8>> {
             let value = resolve.as_ref()?.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
             let array = value.dyn_into::<js_sys::Uint8Array>().ok()?;
@@ -126,7 +128,8 @@ impl Viewer {
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();
-        let prebuilt = settings::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
+        let prebuilt =
+            js_options::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
         let built_off_main_thread = prebuilt.is_some();
         let started = js_sys::Date::now();
         let clod = match prebuilt {
@@ -147,7 +150,7 @@ impl Viewer {
             None => LodSource::full_mesh(&character),
         };
         next_task().await;
-        let build_ms = match settings::get(&options, "buildMs").and_then(|v| v.as_f64()) {
+        let build_ms = match js_options::get(&options, "buildMs").and_then(|v| v.as_f64()) {
             Some(ms) if built_off_main_thread => ms,
             _ => js_sys::Date::now() - started,
         };
@@ -550,20 +553,21 @@ impl Inner {
             .iter()
             .map(|l| format!("{{\"triangles\":{},\"error\":{}}}", l.triangle_count(), num(l.error)))
             .collect();
-        let views: Vec<String> = (0..s.view_count)
-            .map(|i| {
-                let plan = &m.plans[i];
-                let r = m.layout.views[i];
-                let triangles: usize = plan.draws.iter().map(|d| self.level_triangles(d.level)).sum();
-                let shown = plan.transition;
+        let state = m.state();
+        let views: Vec<String> = state
+            .views
+            .iter()
+            .map(|view| {
+                let triangles: usize = view.drawn.iter().map(|&l| self.level_triangles(l)).sum();
+                let (shown, r) = (view.transition, view.rect);
                 format!(
                     "{{\"method\":{},\"level\":{},\"to\":{},\"t\":{},\"triangles\":{},\"draws\":{},\"rect\":[{},{},{},{}]}}",
-                    json_str(method_name(s.methods[i])),
+                    json_str(view.method),
                     shown.from,
                     shown.to,
                     num(shown.t),
                     triangles,
-                    plan.draws.len(),
+                    view.drawn.len(),
                     r.x,
                     r.y,
                     r.width,
@@ -573,7 +577,7 @@ impl Inner {
             .collect();
         let list = |v: &[String]| v.iter().map(|e| json_str(e)).collect::<Vec<_>>().join(",");
         let (w, h) = self.renderer.size();
-        let switch: Vec<String> = m.switch_distances().iter().map(|d| num(d / m.framing)).collect();
+        let switch: Vec<String> = state.switch.iter().map(|&d| num(d)).collect();
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
@@ -600,8 +604,8 @@ impl Inner {
             switch.join(","),
             num(self.build_ms as f32),
             self.built_off_main_thread,
-            m.schedule.selected,
-            num(m.distance / m.framing),
+            state.selected,
+            num(state.distance),
             num(m.anim_time as f32),
             s.paused,
             num(s.speed),

@@ -12,6 +12,8 @@
 
 use wasm_bindgen::prelude::*;
 
+use crate::js_options::entries;
+
 use super::{json_str, num, wait_for, Inner, Viewer};
 use crate::render::pop_spike::SpikeMeter;
 use crate::render::schedule::{Schedule, Transition};
@@ -51,24 +53,16 @@ fn parse_options(options: &JsValue, levels: usize) -> Result<SpikeOptions, Strin
     if options.is_undefined() || options.is_null() {
         return Ok(out);
     }
-    if !options.is_object() {
-        return Err("measurePopSpike takes an object, e.g. { level: 3, frames: 48 }".into());
-    }
-    const KEYS: [&str; 4] = ["level", "frames", "sweep", "at"];
-    for key in js_sys::Object::keys(options.unchecked_ref::<js_sys::Object>()).iter() {
-        let key = key.as_string().unwrap_or_default();
-        let value = js_sys::Reflect::get(options, &key.as_str().into()).unwrap_or(JsValue::UNDEFINED);
-        let number = |lo: f64, hi: f64| match value.as_f64() {
-            Some(x) if x.is_finite() && (lo..=hi).contains(&x) => Ok(x),
-            _ => Err(format!("measurePopSpike: {key} must be a number in [{lo}, {hi}], got {value:?}")),
-        };
+    for (key, v) in
+        entries(options, "measurePopSpike", &["level", "frames", "sweep", "at"], "{ level: 3, frames: 48 }")?
+    {
         match key.as_str() {
-            "level" => out.level = number(1.0, (levels - 1) as f64)?.round() as usize,
+            "level" => out.level = v.number(1.0, (levels - 1) as f64)?.round() as usize,
             // At least 8 frames so the transition spans several; at most 600 (10 s of 60 Hz).
-            "frames" => out.frames = number(8.0, 600.0)?.round() as u32,
-            "sweep" => out.sweep = number(1e-4, 0.5)? as f32,
-            "at" => out.at = number(0.5, 50.0)? as f32,
-            _ => return Err(format!("measurePopSpike: unknown option {key:?}; known: {}", KEYS.join(", "))),
+            "frames" => out.frames = v.number(8.0, 600.0)?.round() as u32,
+            "sweep" => out.sweep = v.number(1e-4, 0.5)? as f32,
+            "at" => out.at = v.number(0.5, 50.0)? as f32,
+            _ => unreachable!("entries() checked the key"),
         }
     }
     Ok(out)

@@ -17,7 +17,7 @@ pub mod settings;
 use glam::{Vec2, Vec3};
 
 use super::camera::{self, OrbitCamera, FOVY};
-use super::layout::{layout, Layout};
+use super::layout::{layout, Layout, Rect};
 use super::plan::{plan_view, ViewPlan};
 use super::schedule::{self, advance_time, Schedule, Transition};
 use crate::character::Character;
@@ -194,10 +194,52 @@ impl ViewerModel {
         self.slider.map(|s| (s.from.max(s.to), s.from.min(s.to)))
     }
 
+    /// What the page reads back (`state()`), the model's half: see [`ViewerState`].
+    pub fn state(&self) -> ViewerState {
+        let views = (0..self.settings.view_count.clamp(1, 3))
+            .map(|i| ViewState {
+                method: settings::method_name(self.settings.methods[i]),
+                transition: self.plans[i].transition,
+                drawn: self.plans[i].draws.iter().map(|d| d.level).collect(),
+                rect: self.layout.views[i],
+            })
+            .collect();
+        ViewerState {
+            selected: self.schedule.selected,
+            distance: self.distance / self.framing,
+            switch: self.switch_distances().iter().map(|d| d / self.framing).collect(),
+            views,
+        }
+    }
+
     /// The slider's state shown when its morph ends (what the page reports).
     pub fn continuous_triangles(&self) -> Option<usize> {
         self.slider.map(|s| s.to)
     }
+}
+
+/// The model's half of the page's `state()`: distances in framing distances.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewerState {
+    /// Level the screen-space error selects.
+    pub selected: usize,
+    /// Camera distance.
+    pub distance: f32,
+    /// Each level's switch distance (infinite where no tolerance allows it).
+    pub switch: Vec<f32>,
+    /// The views shown, in order.
+    pub views: Vec<ViewState>,
+}
+
+/// One view: its method, the transition it shows (the same in every view) and what it draws.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewState {
+    pub method: &'static str,
+    pub transition: Transition,
+    /// The level of each draw (the slider's meshes are `levels` and `levels + 1`).
+    pub drawn: Vec<usize>,
+    /// Where it is on the canvas, framebuffer pixels.
+    pub rect: Rect,
 }
 
 /// The slider's morph between triangle counts as a transition between the drawn slots: `levels`

@@ -60,6 +60,12 @@ fn every_view_makes_the_same_change_at_the_same_moment() {
                     _ => {}
                 }
             }
+            let state = m.state();
+            assert!(state.views.iter().all(|v| v.transition == shown), "state() reports one change");
+            assert_eq!(
+                state.views.iter().map(|v| v.method).collect::<Vec<_>>(),
+                ["popping", "alpha", "geomorph"]
+            );
             // The shown level trails the selection by one running transition at most.
             behind = if m.schedule.selected != shown.to { behind + 1 } else { 0 };
             assert!(behind as f64 * dt <= 0.5 + dt, "step {step}: {behind} frames behind the selection");
