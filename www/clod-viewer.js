@@ -16,7 +16,9 @@
 // before the element is scrolled into view; GPU work always waits for that), manual-frames (draw
 // only on `renderFrame`, for tests).
 // Events: `progress` (detail `{ phase, fraction }`, fraction rising to 1 across the phases
-// `fetch`, `build`, `gpu`, `ready`), `load` (detail: the viewer's state), `error` (detail
+// `fetch`, `gpu`, `build`, `ready`), `load` (detail: the viewer's state; the full mesh is drawn
+// from then on), `lod` (detail: the state once the levels are attached, `lodFrom` "build" or
+// "cache"; the chain bytes are kept in IndexedDB, keyed by the file's SHA-256), `error` (detail
 // `{ message }`), `meter` (detail: `meter()`, when the live meter has measured a transition).
 // Methods: play(), pause(), setTime(seconds), setState({...}), state(), meter(), meterHistory(),
 // load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i).
@@ -33,8 +35,10 @@ const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' 
 const NO_GPU_MESSAGE = 'This browser could not start WebGPU or WebGL2 for the viewer. Turn on hardware ' +
   'acceleration in the browser settings, or open the page in a current Chrome, Edge, Firefox or Safari.';
 
-// Where each phase's progress lands on the overall 0..1 bar (the build dominates).
-const PHASES = { fetch: [0, 0.1], build: [0.1, 0.85], gpu: [0.85, 1], ready: [1, 1] };
+// Where each phase's progress lands on the overall 0..1 bar, in the order they run: the model is
+// drawn at full detail after `gpu` (the `load` event), and the LOD build fills the rest (the
+// `lod` event, then `ready`).
+const PHASES = { fetch: [0, 0.1], gpu: [0.1, 0.2], build: [0.2, 1], ready: [1, 1] };
 
 // --- wasm builds, shared by every element of the page ---------------------------------------
 
@@ -107,6 +111,60 @@ function buildOffMainThread(moduleUrl, source, onProgress) {
   }).catch((e) => { if (e.workerFailed) return null; throw e; });
 }
 
+// --- the LOD chain cache (IndexedDB) ------------------------------------------------------------
+
+// Bumped when the chain's bytes change meaning beyond what `decode` checks.
+const CACHE_VERSION = 1;
+const CACHE_DB = 'clod-viewer';
+const CACHE_STORE = 'chains';
+
+/**
+ * The cache key of a source's LOD chain: SHA-256 of the file (and a .gltf's resources, by
+ * name) with the build options; null where the browser has no subtle crypto (plain http).
+ */
+async function chainKey(source) {
+  if (!globalThis.crypto?.subtle || !globalThis.indexedDB) return null;
+  const parts = [source.bytes, ...[...(source.resources ?? new Map())].sort(([a], [b]) => (a < b ? -1 : 1)).flatMap(([name, bytes]) => [new TextEncoder().encode(name), bytes])];
+  const whole = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
+  let at = 0;
+  for (const p of parts) { whole.set(p, at); at += p.length; }
+  const digest = new Uint8Array(await crypto.subtle.digest('SHA-256', whole));
+  const hex = [...digest].map((b) => b.toString(16).padStart(2, '0')).join('');
+  return `v${CACHE_VERSION}:${hex}:default`;
+}
+
+function openCache() {
+  return new Promise((resolve, reject) => {
+    const request = indexedDB.open(CACHE_DB, 1);
+    request.onupgradeneeded = () => request.result.createObjectStore(CACHE_STORE);
+    request.onsuccess = () => resolve(request.result);
+    request.onerror = () => reject(request.error);
+  });
+}
+
+/** The cached `{ clod, buildMs }` of `key`, or null (missing, or the cache cannot be used). */
+async function cacheGet(key) {
+  try {
+    const db = await openCache();
+    return await new Promise((resolve) => {
+      const request = db.transaction(CACHE_STORE).objectStore(CACHE_STORE).get(key);
+      // Connections are closed after use, so nothing holds the database open (a page may delete it).
+      request.onsuccess = () => { db.close(); resolve(request.result ?? null); };
+      request.onerror = () => { db.close(); resolve(null); };
+    });
+  } catch { return null; }
+}
+
+/** Stores `{ clod, buildMs }` under `key`; a cache that cannot be written is skipped. */
+async function cachePut(key, value) {
+  try {
+    const db = await openCache();
+    const transaction = db.transaction(CACHE_STORE, 'readwrite');
+    transaction.objectStore(CACHE_STORE).put(value, key);
+    transaction.oncomplete = transaction.onerror = transaction.onabort = () => db.close();
+  } catch { /* private mode or quota: the next visit builds again */ }
+}
+
 /** A `.gltf`'s resolver: the URI as written, else its last path segment (files dropped together). */
 export function resolverFor(resources) {
   return (uri) => resources?.get(uri) ?? resources?.get(decodeURIComponent(uri.split('/').pop())) ?? null;
@@ -123,6 +181,7 @@ clod-viewer > .clod-label { position: absolute; box-sizing: border-box; padding:
   background: rgb(0 0 0 / 0.45); border-radius: 0 0 0.3rem 0; pointer-events: none; white-space: nowrap;
   overflow: hidden; text-overflow: ellipsis; font-variant-numeric: tabular-nums; }
 clod-viewer > .clod-progress { position: absolute; left: 10%; right: 10%; top: 50%; height: 0.5rem; margin: 0; }
+clod-viewer > .clod-progress.clod-building { top: auto; bottom: 0.4rem; height: 0.3rem; opacity: 0.8; }
 clod-viewer > .clod-alert { position: absolute; inset: auto 0 0 0; margin: 0; padding: 0.4rem 0.6rem;
   font: 600 0.85rem system-ui, sans-serif; color: #fff; background: rgb(150 30 20 / 0.9); }
 clod-viewer > [hidden] { display: none; }
@@ -342,11 +401,13 @@ export class ClodViewerElement extends HTMLElement {
       this.#source ??= await this.#fetchSource(this.getAttribute('src') || DEFAULT_SRC, report);
       const source = this.#source;
       report('fetch', 1);
-      const built = await buildOffMainThread(url, source, (f) => report('build', f));
-      report('build', 1);
       await visible;
+      // With a worker the full mesh is drawn at once and the levels follow (#attachLevels);
+      // without one, the chain is built inline before the first frame.
+      const later = buildWorker() !== null;
+      const attach = (state) => { if (later) this.#attachLevels(url, source, id); return state; };
       try {
-        return await this.#createViewer(module, backend, source, built, id);
+        return attach(await this.#createViewer(module, backend, source, later, id));
       } catch (e) {
         // WebGPU has an adapter but no usable device (or the surface fails): the WebGL2 build.
         // The LOD bytes are the same whichever build made them.
@@ -354,7 +415,7 @@ export class ClodViewerElement extends HTMLElement {
         if (!fallbacks.length) throw new Error(NO_GPU_MESSAGE);
         const fallback = await loadBuild(fallbacks[0]);
         try {
-          return await this.#createViewer(fallback.module, fallbacks[0], source, built, id);
+          return attach(await this.#createViewer(fallback.module, fallbacks[0], source, later, id));
         } catch (e2) {
           throw e2.noGpu ? new Error(NO_GPU_MESSAGE) : e2;
         }
@@ -363,9 +424,9 @@ export class ClodViewerElement extends HTMLElement {
     pending.showGpu = showGpu;
     this.#pending = pending;
     const done = pending.then((state) => {
-      this.#bar.hidden = true;
       this.#alert.hidden = true;
-      this.#reportProgress('ready', 1);
+      if (state.lodFrom) this.#levelsReady(id);
+      else this.#bar.classList.add('clod-building');
       this.#emit('load', state);
       this.#schedule();
       return state;
@@ -379,6 +440,43 @@ export class ClodViewerElement extends HTMLElement {
     if (this.#visible) showGpu();
     if (!replace) done.catch(() => {});
     return done;
+  }
+
+  // Gets the LOD chain of the model shown (the cache, else the worker) and attaches it; fires
+  // `lod` with the state. A newer load makes it stop.
+  async #attachLevels(moduleUrl, source, id) {
+    const viewer = this.#viewer;
+    const current = () => this.#loadId === id && this.#viewer === viewer;
+    try {
+      const key = await chainKey(source);
+      const cached = key && (await cacheGet(key));
+      if (cached && current()) {
+        try {
+          await viewer.attachLod(cached.clod, cached.buildMs, 'cache');
+          if (current()) this.#levelsReady(id);
+          return;
+        } catch { /* a stale entry: build again */ }
+      }
+      const built = await buildOffMainThread(moduleUrl, source, (f) => { if (current()) this.#reportProgress('build', f); });
+      if (!current()) return;
+      if (!built) throw new Error('no worker could build the LOD chain');
+      await viewer.attachLod(built.clod, built.buildMs, 'build');
+      if (key) cachePut(key, { clod: built.clod, buildMs: built.buildMs });
+      if (current()) this.#levelsReady(id);
+    } catch (e) {
+      if (!current()) return;
+      this.#bar.hidden = true;
+      this.#fail(new Error(`${source.name}: the levels could not be built (${e.message ?? e}); showing the full mesh`));
+    }
+  }
+
+  #levelsReady(id) {
+    if (this.#loadId !== id) return;
+    this.#bar.hidden = true;
+    this.#bar.classList.remove('clod-building');
+    this.#reportProgress('build', 1);
+    this.#reportProgress('ready', 1);
+    this.#emit('lod', this.state());
   }
 
   #startWhenVisible() {
@@ -424,14 +522,14 @@ export class ClodViewerElement extends HTMLElement {
 
   // Creates the viewer on a fresh canvas and swaps it in only when it works, so a model that
   // fails leaves the previous one playing.
-  async #createViewer(module, backend, source, built, id) {
+  async #createViewer(module, backend, source, later, id) {
     const canvas = this.#canvas.cloneNode();
     delete canvas.dataset.wired;
     const [w, h] = this.#pixelSize();
     canvas.width = w;
     canvas.height = h;
     const options = { backend, resolve: resolverFor(source.resources) };
-    if (built) { options.clod = built.clod; options.buildMs = built.buildMs; }
+    if (later) options.lod = 'later';
     if (this.#loadId === id) this.#reportProgress('gpu', 0);
     let viewer;
     try {

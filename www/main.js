@@ -21,6 +21,8 @@ let loaded = false;
 let clips = [];
 let spike = null;
 let measuring = false;
+// The URL's `lod` (a continuous triangle count), applied once the levels are there.
+let deferredLod = null;
 
 // --- start-up from the URL ----------------------------------------------------------------------
 
@@ -39,6 +41,8 @@ viewer.addEventListener('progress', (e) => {
   const { phase, fraction } = e.detail;
   if (!loaded || html.dataset.state === 'loading') {
     status.textContent = `${{ fetch: 'Downloading', build: 'Building the LOD chain', gpu: 'Starting the GPU', ready: 'Ready' }[phase]}… ${Math.round(100 * fraction)} %`;
+  } else if (phase === 'build') {
+    $('stat-lod-build')?.replaceChildren(`building the levels… ${Math.round(100 * fraction)} % (full detail meanwhile)`);
   }
 });
 
@@ -52,6 +56,18 @@ viewer.addEventListener('load', (e) => {
     `drawn with ${state.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}.`;
   if (first) applyUrlState();
   html.dataset.state = 'ready';
+  html.dataset.lod = state.lodFrom ? 'ready' : 'pending';
+  showStats();
+});
+
+// The levels arrive after the first frame (built in the worker, or from the cache).
+viewer.addEventListener('lod', (e) => {
+  html.dataset.lod = 'ready';
+  if (deferredLod !== null) {
+    try { viewer.setState({ continuousTriangles: deferredLod }); } catch (err) { status.textContent += ` Ignored from the URL: lod: ${err.message}.`; }
+    deferredLod = null;
+  }
+  syncControls(e.detail);
   showStats();
 });
 
@@ -69,7 +85,10 @@ function applyUrlState() {
   const updates = [];
   if (params.has('t')) updates.push(['t', { time: Number(params.get('t')), paused: true }]);
   if (params.has('distance')) updates.push(['distance', { distanceMode: 'manual', distance: Number(params.get('distance')) }]);
-  if (params.has('lod')) updates.push(['lod', { continuousTriangles: Number(params.get('lod')) }]);
+  if (params.has('lod')) {
+    if (viewer.state().lodFrom) updates.push(['lod', { continuousTriangles: Number(params.get('lod')) }]);
+    else deferredLod = Number(params.get('lod'));
+  }
   const ignored = [...(viewer.ignoredSettings ?? [])];
   for (const [name, state] of updates) {
     try { viewer.setState(state); } catch (e) { ignored.push(`${name}: ${e.message}`); }
@@ -229,7 +248,7 @@ function showStats() {
   const rows = [
     ['Drawn', views],
     ['Levels', levels],
-    ['LOD build', `${Math.round(s.buildMs)} ms${s.builtOffMainThread ? ' (worker)' : ''}`],
+    ['LOD build', lodBuildText(s)],
     ['Frame', viewer.frameMs ? `${viewer.frameMs.toFixed(1)} ms` : '–'],
     ['Backend', [s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2', s.adapter, `MSAA ${s.msaa}×`].filter(Boolean).join(' · ')],
     ['Pop spike', spike ? formatSpike(spike) : measuring ? 'measuring…' : 'press “Measure pop spike” (the views pause for a few seconds)'],
@@ -247,6 +266,16 @@ function showStats() {
   if (clip && clip.duration > 0 && document.activeElement !== $('scrub')) {
     $('scrub').value = (s.animTime % clip.duration) / clip.duration;
     $('scrub-out').textContent = `${(s.animTime % clip.duration).toFixed(2)} s`;
+  }
+}
+
+function lodBuildText(s) {
+  const ms = `${Math.round(s.buildMs).toLocaleString()} ms`;
+  switch (s.lodFrom) {
+    case 'build': return `${ms} (worker)`;
+    case 'cache': return `from the cache (built in ${ms} on a first visit)`;
+    case 'inline': return `${ms} (main thread)`;
+    default: return 'building the levels… (full detail meanwhile)';
   }
 }
 

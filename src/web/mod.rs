@@ -78,6 +78,9 @@ struct Inner {
     build_ms: f64,
     /// Whether the LOD chain came from `options.clod` (a worker) rather than this thread.
     built_off_main_thread: bool,
+    /// Where the levels came from: `"build"` (a worker), `"cache"`, `"inline"` (this thread), or
+    /// `None` while only the full mesh is drawn.
+    lod_from: Option<&'static str>,
 }
 
 fn js_error(e: impl std::fmt::Display) -> JsError {
@@ -130,12 +133,13 @@ impl Viewer {
         let mut warnings = character.warnings.clone();
         let prebuilt =
             js_options::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
+        let later = js_options::get_string(&options, "lod").as_deref() == Some("later");
         let built_off_main_thread = prebuilt.is_some();
         let started = js_sys::Date::now();
         let clod = match prebuilt {
-            Some(encoded) => Some(clod::bytes::decode(&encoded.to_vec(), &character).map_err(|e| {
-                JsError::new(&format!("the LOD chain built in the worker does not fit: {e}"))
-            })?),
+            Some(encoded) => Some(decode_chain(&encoded.to_vec(), &character)?),
+            // The levels arrive later (`attachLod`): the full mesh is drawn meanwhile.
+            None if later => None,
             None => match clod::build(&character, &ClodOptions::default(), &mut |_| {}) {
                 Ok(c) => Some(c),
                 Err(e) => {
@@ -152,7 +156,13 @@ impl Viewer {
         next_task().await;
         let build_ms = match js_options::get(&options, "buildMs").and_then(|v| v.as_f64()) {
             Some(ms) if built_off_main_thread => ms,
+            _ if later => 0.0,
             _ => js_sys::Date::now() - started,
+        };
+        let lod_from = match (&clod, built_off_main_thread) {
+            (None, _) => None,
+            (Some(_), true) => Some("build"),
+            (Some(_), false) => Some("inline"),
         };
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(|e| {
             let error = js_sys::Error::new(&e.to_string());
@@ -183,6 +193,7 @@ impl Viewer {
             warnings,
             build_ms,
             built_off_main_thread,
+            lod_from,
         };
         let queue = Queue { clips, ..Queue::default() };
         Ok(Viewer { inner: Rc::new(RefCell::new(inner)), queue: Rc::new(RefCell::new(queue)) })
@@ -250,6 +261,46 @@ impl Viewer {
             None => self.queue.borrow().last_state.clone().unwrap_or_else(|| "null".into()),
         };
         js_sys::JSON::parse(&json).map_err(|_| JsError::new("state is not JSON"))
+    }
+
+    /// Attaches the LOD chain of this same file once it is ready (`Character.buildClodBytes` in a
+    /// worker, or bytes kept from an earlier visit): decodes it against the character, uploads
+    /// its levels and starts the transitions, yielding to the browser between steps. `from` is
+    /// `"build"` or `"cache"` (reported as `state().lodFrom`), `buildMs` the build's time.
+    ///
+    /// Rejects when the bytes do not belong to this file (a stale cache entry, say): the viewer
+    /// keeps drawing the full mesh.
+    #[wasm_bindgen(js_name = attachLod)]
+    #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: frames wait meanwhile
+    pub fn attach_lod(&self, clod: Vec<u8>, build_ms: f64, from: String) -> js_sys::Promise {
+        let inner = Rc::clone(&self.inner);
+        wasm_bindgen_futures::future_to_promise(async move {
+            let from = match from.as_str() {
+                "build" => "build",
+                "cache" => "cache",
+                other => {
+                    return Err(
+                        JsError::new(&format!("from must be \"build\" or \"cache\", got {other:?}")).into()
+                    )
+                }
+            };
+            let mut guard = wait_for(&inner).await;
+            let inner = &mut *guard;
+            let chain = decode_chain(&clod, &inner.character)?;
+            drop(clod);
+            next_task().await;
+            let lod = LodSource::from_clod(&inner.character, &chain);
+            next_task().await;
+            inner.renderer.set_levels(&lod).await;
+            inner.model.set_levels(lod.errors());
+            inner.lod = lod;
+            inner.clod = Some(chain);
+            inner.continuous_uploaded = None;
+            inner.build_ms = build_ms;
+            inner.built_off_main_thread = from == "build";
+            inner.lod_from = Some(from);
+            Ok(JsValue::UNDEFINED)
+        })
     }
 
     /// The live meter's recent samples (about the last ten seconds of frames) for a strip chart:
@@ -339,6 +390,12 @@ impl Viewer {
         }
         Some(inner)
     }
+}
+
+/// Decodes LOD chain bytes made for `character` (by a worker or an earlier visit).
+fn decode_chain(bytes: &[u8], character: &Character) -> Result<Clod, JsValue> {
+    clod::bytes::decode(bytes, character)
+        .map_err(|e| JsError::new(&format!("the LOD chain does not fit this file: {e}")).into())
 }
 
 /// Waits (yielding to the browser) until nothing else holds the viewer.
@@ -581,7 +638,7 @@ impl Inner {
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
-                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},",
+                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},\"lodFrom\":{},",
                 "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
@@ -604,6 +661,7 @@ impl Inner {
             switch.join(","),
             num(self.build_ms as f32),
             self.built_off_main_thread,
+            self.lod_from.map_or("null".to_string(), json_str),
             state.selected,
             num(state.distance),
             num(m.anim_time as f32),

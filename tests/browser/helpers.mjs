@@ -34,6 +34,8 @@ export async function openPage(browser, query = {}, viewport = { width: 1240, he
     const alert = await page.locator('[role=alert]').textContent();
     throw new Error(`page state ${state}: ${alert}\n${logs.join('\n')}`);
   }
+  // The full mesh is drawn first; the tests compare levels, so they wait for them.
+  await page.waitForFunction(() => document.documentElement.dataset.lod === 'ready', null, { timeout: 120_000 });
   return page;
 }
 

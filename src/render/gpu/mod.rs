@@ -351,6 +351,20 @@ impl Renderer {
         std::mem::take(&mut *self.errors.lock().unwrap_or_else(|p| p.into_inner()))
     }
 
+    /// Replaces the discrete levels (the LOD chain arriving after the full mesh), yielding to the
+    /// browser between levels; drops the slider's meshes and the level-skipping geomorphs.
+    pub async fn set_levels(&mut self, lod: &LodSource) {
+        let default_slot = self.materials.len() - 1;
+        let mut levels = Vec::with_capacity(lod.levels.len());
+        for level in &lod.levels {
+            levels.push(upload_level(&self.device, level, default_slot));
+            next_task().await;
+        }
+        self.levels = levels;
+        self.continuous.clear();
+        self.morph_pairs.clear();
+    }
+
     /// Uploads the continuous slider's meshes (drawn as levels `levels`, `levels + 1`, …), or
     /// drops them (empty).
     pub fn set_continuous_levels(&mut self, levels: &[LevelData]) {

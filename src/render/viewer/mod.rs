@@ -112,6 +112,17 @@ impl ViewerModel {
         &self.errors
     }
 
+    /// Replaces the discrete levels (their geometric errors, finest first): the levels arriving
+    /// after the full mesh was shown alone. The slider turns off and the view settles at the level
+    /// the distance selects, without a transition from the finest.
+    pub fn set_levels(&mut self, errors: Vec<f32>) {
+        self.errors = if errors.is_empty() { vec![0.0] } else { errors };
+        self.slider = None;
+        self.schedule = Schedule::FINEST;
+        self.advance(0.0);
+        self.settle();
+    }
+
     /// Resizes the canvas (framebuffer pixels).
     pub fn resize(&mut self, width: u32, height: u32) {
         self.canvas = (width, height);

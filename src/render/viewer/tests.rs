@@ -176,3 +176,18 @@ fn the_magnifier_enlarges_without_changing_the_level() {
     assert_eq!((m.schedule, m.switch_distances()), plain, "levels are chosen for the real size");
     assert_eq!(m.camera.zoom, 4.0);
 }
+
+#[test]
+fn levels_arriving_later_start_at_the_selected_level() {
+    let mut m = ViewerModel::new((Vec3::ZERO, 1.0), vec![0.0], 900, 300);
+    assert_eq!((m.level_count(), m.plans[0].transition), (1, Transition::at(0)), "the full mesh alone");
+    m.apply(&Update { distance_mode: Some(DistanceMode::Manual), distance: Some(3.0), ..Default::default() });
+    m.advance(0.1);
+    m.set_levels(ERRORS.to_vec());
+    let selected = m.schedule.selected;
+    assert!(selected > 0);
+    assert!(
+        m.plans.iter().all(|p| p.transition == Transition::at(selected)),
+        "no transition from the finest"
+    );
+}
