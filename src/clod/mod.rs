@@ -118,10 +118,12 @@ pub struct Clod {
     /// Finest first; level `i`'s ancestor table points into level `i + 1`.
     pub levels: Vec<LodLevel>,
     pub pose: SimplificationPose,
+    /// The rule that gave created vertices their skin weights.
+    pub weights: WeightRule,
 }
 
 /// Attribute channel layout handed to the simplifier: normal xyz first, then uv, then rgba.
-struct AttributeLayout {
+pub(crate) struct AttributeLayout {
     uv: Option<usize>,
     color: Option<usize>,
     weights: Vec<f32>,
@@ -171,33 +173,22 @@ pub fn build(
     }
     progress(0.0);
 
-    // 1. The simplification pose P0 and its per-vertex matrices.
-    let p0_skin = p0_skin_matrices(character, &options.pose)?;
-    let p0_matrices = p0_skin.as_deref().map(|skin| poses::vertex_matrices(character, skin));
-    let p0_positions: Vec<Vec3> = match &p0_matrices {
-        Some(m) => mesh.positions.iter().zip(m).map(|(&b, m)| m.transform_point3(b)).collect(),
-        None => mesh.positions.clone(),
-    };
-    let p0_normals = match &p0_skin {
-        Some(skin) => skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, skin),
-        None => mesh.normals.clone(),
-    };
+    // 1. The simplification pose P0, and for multi-pose the plane quadrics of every frame.
+    let input = PoseInput::new(character, &options.pose)?;
     let vertex_quadrics = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
-            multi_pose_quadrics(character, *frames_per_clip, p0_matrices.as_deref())
+            multi_pose_quadrics(character, *frames_per_clip, input.vertex_matrices.as_deref())
         }
         _ => None,
     };
     progress(0.15);
 
     // 2. Simplify the static P0 mesh.
-    let layout = attribute_layout(character, &p0_positions);
-    let attributes = interleave_attributes(character, &p0_normals, &layout);
     let triangle_materials = triangle_materials(character);
-    let input = SimplifyInput {
-        positions: &p0_positions,
-        attributes: &attributes,
-        attribute_weights: &layout.weights,
+    let simplify_input = SimplifyInput {
+        positions: &input.positions,
+        attributes: &input.attributes,
+        attribute_weights: &input.layout.weights,
         indices: &mesh.indices,
         triangle_materials: &triangle_materials,
         vertex_quadrics: vertex_quadrics.as_deref(),
@@ -207,19 +198,73 @@ pub fn build(
         target_triangles: *levels.last().expect("levels are not empty"),
         normal_channel: Some(0),
         // Costs are mean squared errors in position units².
-        max_error: (options.max_error * crate::metrics::bounds_diagonal(&p0_positions)).powi(2),
+        max_error: (options.max_error * crate::metrics::bounds_diagonal(&input.positions)).powi(2),
     };
-    let pm = simplify::simplify_with_progress(&input, &simplify_options, &mut |f| progress(0.15 + 0.65 * f))?;
+    let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {
+        progress(0.15 + 0.65 * f)
+    })?;
     progress(0.8);
 
     // 3. Bind-space data of every vertex id.
-    let apm = back_propagate(character, pm, p0_skin.as_deref(), options.weights, &layout);
+    let apm = back_propagate(character, pm, input.skin.as_deref(), options.weights, &input.layout);
     progress(0.9);
 
     // 4. Discrete levels and their ancestor tables.
     let levels = chain::build_levels(&apm.pm, &levels);
     progress(1.0);
-    Ok(Clod { apm, levels, pose: options.pose.clone() })
+    Ok(Clod { apm, levels, pose: options.pose.clone(), weights: options.weights })
+}
+
+/// What the simplifier sees of the character in the simplification pose `P0`: positions and
+/// interleaved attributes of every input vertex, and the skin matrices that posed them.
+/// A pure function of the character and the pose, so [`bytes::decode`] recomputes it instead
+/// of storing it.
+pub(crate) struct PoseInput {
+    /// `P0`'s skin matrices; `None` for the bind pose and multi-pose (simplified in bind space).
+    skin: Option<Vec<Mat4>>,
+    /// Each input vertex's blended skin matrix at `P0` (`None` as `skin`).
+    vertex_matrices: Option<Vec<Mat4>>,
+    pub(crate) positions: Vec<Vec3>,
+    pub(crate) attributes: Vec<f32>,
+    pub(crate) layout: AttributeLayout,
+}
+
+impl PoseInput {
+    /// # Errors
+    /// [`ClodError::UnknownClip`] or [`ClodError::BadTime`] for a clip-frame pose the character
+    /// cannot take.
+    pub(crate) fn new(character: &Character, pose: &SimplificationPose) -> Result<Self, ClodError> {
+        let mesh = &character.mesh;
+        let skin = p0_skin_matrices(character, pose)?;
+        let vertex_matrices = skin.as_deref().map(|skin| poses::vertex_matrices(character, skin));
+        let positions: Vec<Vec3> = match &vertex_matrices {
+            Some(m) => mesh.positions.iter().zip(m).map(|(&b, m)| m.transform_point3(b)).collect(),
+            None => mesh.positions.clone(),
+        };
+        let normals = match &skin {
+            Some(skin) => skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, skin),
+            None => mesh.normals.clone(),
+        };
+        let layout = attribute_layout(character, &positions);
+        let attributes = interleave_attributes(character, &normals, &layout);
+        Ok(PoseInput { skin, vertex_matrices, positions, attributes, layout })
+    }
+}
+
+/// Steps 3 and 4 of [`build`] for a progressive mesh [`bytes::decode`] read: back-propagation to
+/// bind space, then the discrete levels nearest `level_triangles`. Both are deterministic, so
+/// the decoded chain equals the built one.
+pub(crate) fn articulate(
+    character: &Character,
+    pm: ProgressiveMesh,
+    input: &PoseInput,
+    weights: WeightRule,
+    level_triangles: &[usize],
+    pose: SimplificationPose,
+) -> Clod {
+    let apm = back_propagate(character, pm, input.skin.as_deref(), weights, &input.layout);
+    let levels = chain::build_levels(&apm.pm, level_triangles);
+    Clod { apm, levels, pose, weights }
 }
 
 /// Skin matrices of `P0`, or `None` for the bind pose (all identity) and multi-pose (which
