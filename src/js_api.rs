@@ -476,3 +476,12 @@ fn checked_mesh(positions: &[f32], indices: &[u32], which: &str) -> Result<Vec<g
     }
     Ok(positions.chunks_exact(3).map(glam::Vec3::from_slice).collect())
 }
+
+/// Bytes of this wasm instance's linear memory. Memory only grows, so after a build this is the
+/// peak the build needed (plus whatever the instance held before); `bench/scaling.mjs` reports
+/// it per character size.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen(js_name = wasmMemoryBytes)]
+pub fn wasm_memory_bytes() -> f64 {
+    (core::arch::wasm32::memory_size::<0>() * 65_536) as f64
+}
