@@ -295,7 +295,8 @@ impl Clod {
         Ok(out)
     }
 
-    /// CPU-skinned positions (xyz per vertex) of level `i` in clip `clipName` at `timeSeconds`.
+    /// CPU-skinned positions (xyz per vertex) of level `i` in clip `clipName` at `timeSeconds`,
+    /// the clip's morph weights applied before skinning.
     ///
     /// Throws for an unknown level or clip, or a non-finite time.
     #[wasm_bindgen(js_name = levelSkinnedPositions)]
@@ -309,7 +310,8 @@ impl Clod {
         let time = finite_time(time_seconds)?;
         let clip = self.character.clip(clip_name).ok_or_else(|| unknown_clip(&self.character, clip_name))?;
         let skin = self.character.skin_matrices(&self.character.pose_at(clip, time));
-        Ok(flatten(&self.clod.level_skinned_positions(i, &skin)))
+        let weights = self.character.morph_weights_at(clip, time);
+        Ok(flatten(&self.clod.level_morphed_skinned_positions(i, &skin, &weights)))
     }
 }
 

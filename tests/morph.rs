@@ -2,9 +2,12 @@
 //! (8 triangles) on a rigid node scaled by 2, with a sparse target (the centre vertex lifted by
 //! one unit) and a dense one whose deltas are a linear field (`Δp = (0, 0, x)`, `Δn = (0.1 x, 0,
 //! 0)` in the file's units), node and mesh default weights, and one clip per interpolation of
-//! the `weights` path. Exact expected values.
+//! the `weights` path. Exact expected values; then every level of the chain built from it.
 
+use clod_viewer::clod::bytes::{decode, encode, ClodBytesError};
+use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import::from_gltf;
+use clod_viewer::simplify::CollapseMode;
 use clod_viewer::Character;
 use glam::Vec3;
 
@@ -149,4 +152,79 @@ fn clips_sample_weights_in_every_interpolation_and_cpu_skinning_applies_them() {
     // Weights 0: the bind pose.
     let rest = c.morphed_skinned_positions(&c.skeleton.rest_pose(), &[0.0, 0.0]);
     assert!(rest.iter().zip(&c.mesh.positions).all(|(a, b)| close(*a, *b)));
+}
+
+fn chain(c: &Character, mode: CollapseMode) -> Clod {
+    let options = ClodOptions {
+        pose: SimplificationPose::Bind,
+        level_triangles: Some(vec![8, 4, 2]),
+        mode,
+        max_error: f32::INFINITY,
+        ..ClodOptions::default()
+    };
+    clod::build(c, &options, &mut |_| {}).expect("the grid simplifies")
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn every_level_carries_the_deltas_and_the_linear_field_exactly() {
+    let c = grid();
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let clod = chain(&c, mode);
+        assert!(clod.levels.len() >= 2, "{mode:?}: the grid collapses");
+        // Deltas carried through collapses: the coarsest level is made of created vertices.
+        let inputs = clod.apm.pm.input_vertex_count as u32;
+        let coarsest = clod.levels.last().unwrap();
+        assert!(coarsest.vertices.iter().any(|&v| v >= inputs), "{mode:?}: {:?}", coarsest.vertices);
+        assert!(clod.apm.morph.all_finite());
+        assert_eq!(clod.apm.morph.row_count(), clod.apm.pm.vertex_total());
+        for (i, level) in clod.levels.iter().enumerate() {
+            let deltas = clod.level_morph_deltas(i);
+            assert_eq!(deltas.row_count(), level.vertices.len());
+            for (k, &v) in level.vertices.iter().enumerate() {
+                let p = clod.apm.bind_positions[v as usize];
+                // The grid is flat and every new vertex lies on its collapsed edge, so the linear
+                // field's blend is the field at the new vertex.
+                let dense: Vec<_> = deltas.of(k).filter(|e| e.0 == 1).collect();
+                let expected = Vec3::new(0.0, 0.0, p.x);
+                let found = dense.first().map_or(Vec3::ZERO, |e| e.1);
+                assert!(found.abs_diff_eq(expected, 1e-5), "{mode:?} level {i} vertex {v}: {found} at {p}");
+                let normal = dense.first().map_or(Vec3::ZERO, |e| e.2);
+                assert!(normal.abs_diff_eq(Vec3::new(0.05 * p.x, 0.0, 0.0), 1e-6));
+            }
+        }
+        // Level 0 at weights 0 is the bind pose, and with weights the character's own morph.
+        let identity = c.skin_matrices(&c.skeleton.rest_pose());
+        let level0 = clod.level_morphed_skinned_positions(0, &identity, &[0.0, 0.0]);
+        let vertices = &clod.levels[0].vertices;
+        for (p, &v) in level0.iter().zip(vertices) {
+            assert!(close(*p, c.mesh.positions[v as usize]));
+        }
+        let weights = [1.0, 0.5];
+        let morphed = c.morphed_skinned_positions(&c.skeleton.rest_pose(), &weights);
+        let level0 = clod.level_morphed_skinned_positions(0, &identity, &weights);
+        for (p, &v) in level0.iter().zip(vertices) {
+            assert!(close(*p, morphed[v as usize]));
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn chain_bytes_keep_the_deltas_and_reject_another_characters() {
+    let c = grid();
+    let clod = chain(&c, CollapseMode::Full);
+    let bytes = encode(&clod);
+    assert_eq!(decode(&bytes, &c).expect("round trip"), clod);
+    // The same mesh without its targets is another character.
+    let mut plain = c.clone();
+    plain.mesh.morph = Default::default();
+    plain.morph_targets.clear();
+    let error = decode(&bytes, &plain).unwrap_err();
+    assert!(matches!(error, ClodBytesError::CharacterMismatch { .. }), "{error}");
+    // A changed delta of an input vertex: built for another character.
+    let mut other = c.clone();
+    other.mesh.morph.positions[0].z += 1.0;
+    let error = decode(&bytes, &other).unwrap_err();
+    assert!(matches!(error, ClodBytesError::CharacterDataMismatch { .. }), "{error}");
 }

@@ -23,6 +23,8 @@
 //! 5. levels: a `u32` count, then per level `collapses` (u32), `requested_triangles` (u64),
 //!    `error` (f32) and the arrays `indices`, `vertices`, `ancestors` (u32).
 //!
+//! 6. morph deltas per vertex id: see `bytes_morph` (a section of its own).
+//!
 //! Nothing may follow. There is no field of type `f64` in a [`Clod`], so none in the format.
 //!
 //! Decoding checks everything the cursor, [`crate::render::lod_source::LodSource::from_clod`] and the level
@@ -41,7 +43,7 @@ use crate::simplify::StopReason;
 /// The first four bytes.
 pub const MAGIC: [u8; 4] = *b"CLOD";
 /// The layout this module writes and reads; bump it whenever the layout changes.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 const NONE: u32 = u32::MAX;
 /// Bytes of one [`CollapseRecord`] and one [`CornerChange`].
 const COLLAPSE_BYTES: usize = 40;
@@ -175,8 +177,12 @@ pub fn encode(clod: &Clod) -> Vec<u8> {
         w.u32s(&level.vertices);
         w.u32s(&level.ancestors);
     }
+    morph_section::write(&mut w, &apm.morph);
     w.out
 }
+
+#[path = "bytes_morph.rs"]
+mod morph_section;
 
 struct Writer {
     out: Vec<u8>,
@@ -255,13 +261,15 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
     }
     let pose = read_pose(&mut r)?;
     let pm = read_pm(&mut r)?;
-    let apm = read_apm(&mut r, pm)?;
+    let mut apm = read_apm(&mut r, pm)?;
     let levels = read_levels(&mut r)?;
+    apm.morph = morph_section::read(&mut r)?;
     if r.remaining() > 0 {
         return Err(ClodBytesError::TrailingBytes { count: r.remaining() });
     }
     let clod = Clod { apm, levels, pose };
     check_character(&clod, character)?;
+    morph_section::check(&clod.apm.morph, clod.apm.pm.vertex_total(), character)?;
     check_forest(&clod.apm.pm)?;
     check_replay(&clod.apm.pm)?;
     check_levels(&clod)?;
@@ -384,6 +392,7 @@ fn read_apm(r: &mut Reader, pm: ProgressiveMesh) -> Result<ArticulatedPm> {
         colors,
         joints,
         weights,
+        morph: Default::default(),
         singular_back_propagations,
     })
 }
