@@ -3,12 +3,16 @@
 //! one unit) and a dense one whose deltas are a linear field (`Δp = (0, 0, x)`, `Δn = (0.1 x, 0,
 //! 0)` in the file's units), node and mesh default weights, and one clip per interpolation of
 //! the `weights` path. Exact expected values; then every level of the chain built from it.
+//! Last, invariants on shared models given seeded random sparse targets.
+
+mod common;
 
 use clod_viewer::clod::bytes::{decode, encode, ClodBytesError};
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import::from_gltf;
+use clod_viewer::morph::{MorphDeltas, MorphTarget};
 use clod_viewer::simplify::CollapseMode;
-use clod_viewer::Character;
+use clod_viewer::{import, Character};
 use glam::Vec3;
 
 /// The grid's buffer: positions, normals, indices, the dense target, the sparse target's index
@@ -227,4 +231,76 @@ fn chain_bytes_keep_the_deltas_and_reject_another_characters() {
     other.mesh.morph.positions[0].z += 1.0;
     let error = decode(&bytes, &other).unwrap_err();
     assert!(matches!(error, ClodBytesError::CharacterDataMismatch { .. }), "{error}");
+}
+
+/// `character` with three seeded random sparse targets: each vertex moves with each target with
+/// probability 1/3, by up to 5 % of the diagonal (normals by up to 0.1).
+fn with_random_targets(mut character: Character, seed: u64) -> Character {
+    let mut rng = common::SplitMix(seed);
+    let scale = 0.05 * clod_viewer::metrics::bounds_diagonal(&character.mesh.positions);
+    let mut deltas = MorphDeltas::default();
+    for _ in 0..character.mesh.vertex_count() {
+        let mut row = Vec::new();
+        for t in 0..3u16 {
+            if rng.below(3) == 0 {
+                let dp = Vec3::new(rng.signed(), rng.signed(), rng.signed()) * scale;
+                let dn = Vec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.1;
+                row.push((t, dp, dn));
+            }
+        }
+        deltas.push_row(row);
+    }
+    character.mesh.morph = deltas;
+    character.morph_targets =
+        (0..3).map(|t| MorphTarget { name: format!("random {t}"), default_weight: 0.0 }).collect();
+    character
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn random_targets_on_shared_models_keep_every_level_finite_and_bounded() {
+    for (name, seed) in [("Fox.glb", 7), ("RiggedSimple.glb", 11)] {
+        let Some(bytes) = common::model_bytes(name) else { continue };
+        let c = with_random_targets(import::from_glb(&bytes).unwrap(), seed);
+        let clip = &c.clips[0];
+        let frame = SimplificationPose::ClipFrame { clip: clip.name.clone(), time: 0.5 * clip.duration() };
+        for pose in [SimplificationPose::MultiPose { frames_per_clip: 4 }, frame] {
+            let options = ClodOptions { pose: pose.clone(), ..ClodOptions::default() };
+            let clod = clod::build(&c, &options, &mut |_| {}).unwrap();
+            assert!(clod.levels.len() >= 3, "{name} {pose:?}");
+            assert!(clod.apm.morph.all_finite(), "{name} {pose:?}");
+            assert_eq!(decode(&encode(&clod), &c).unwrap(), clod);
+            // Multi-pose simplifies in bind space: every created row blends its children's
+            // convexly, so no target's delta grows past the largest input delta of that target.
+            if let SimplificationPose::MultiPose { .. } = pose {
+                let inputs = c.mesh.vertex_count();
+                for t in 0..3u16 {
+                    let largest = |range: std::ops::Range<usize>| {
+                        range
+                            .flat_map(|v| clod.apm.morph.of(v).filter(|e| e.0 == t).map(|e| e.1.length()))
+                            .fold(0.0f32, f32::max)
+                    };
+                    let created = largest(inputs..clod.apm.pm.vertex_total());
+                    assert!(created <= largest(0..inputs) * (1.0 + 1e-5), "{name}: target {t}");
+                }
+            }
+            // Level 0 at weights 0 is the bind pose (skinned at rest), exactly; with weights, in
+            // a clip's pose, the character's own morphed skinning.
+            let rest = c.skeleton.rest_pose();
+            let level0 = clod.level_morphed_skinned_positions(0, &c.skin_matrices(&rest), &[0.0; 3]);
+            let bind = c.skinned_positions(&rest);
+            let ids = &clod.levels[0].vertices;
+            assert!(level0.iter().zip(ids).all(|(p, &v)| *p == bind[v as usize]), "{name}");
+            let (pose_now, weights) = (c.pose_at(clip, 0.3), [0.7, -0.4, 1.0]);
+            let level0 = clod.level_morphed_skinned_positions(0, &c.skin_matrices(&pose_now), &weights);
+            let full = c.morphed_skinned_positions(&pose_now, &weights);
+            assert!(level0.iter().zip(ids).all(|(p, &v)| *p == full[v as usize]), "{name}");
+            for i in 0..clod.levels.len() {
+                let positions =
+                    clod.level_morphed_skinned_positions(i, &c.skin_matrices(&pose_now), &weights);
+                assert!(positions.iter().all(|p| p.is_finite()), "{name} level {i}");
+                assert_eq!(clod.level_morph_deltas(i).row_count(), clod.levels[i].vertices.len());
+            }
+        }
+    }
 }
