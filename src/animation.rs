@@ -6,7 +6,8 @@
 //! Times are in seconds. Rotations interpolate along the shortest path (slerp for `Linear`,
 //! component-wise Hermite then normalization for `CubicSpline`, as the glTF spec prescribes).
 //! A [`Clip`] writes its channels over a [`Pose`] that starts at rest, so nodes without a channel
-//! keep their rest transform.
+//! keep their rest transform; its morph weight channels (scalar curves, linear interpolation
+//! for `Linear` as glTF prescribes) write over the character's default weights the same way.
 
 use glam::{Quat, Vec3, Vec4};
 use thiserror::Error;
@@ -91,6 +92,22 @@ impl Keyframe for Quat {
     }
     fn is_finite(self) -> bool {
         Quat::is_finite(self)
+    }
+}
+
+impl Keyframe for f32 {
+    fn interpolate(a: Self, b: Self, s: f32) -> Self {
+        a + (b - a) * s
+    }
+    fn hermite(p0: Self, m0: Self, p1: Self, m1: Self, s: f32) -> Self {
+        let [h00, h10, h01, h11] = hermite_basis(s);
+        h00 * p0 + h10 * m0 + h01 * p1 + h11 * m1
+    }
+    fn scaled(self, k: f32) -> Self {
+        self * k
+    }
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
     }
 }
 
@@ -192,6 +209,12 @@ pub enum ChannelCurve {
     Translation(Curve<Vec3>),
     Rotation(Curve<Quat>),
     Scale(Curve<Vec3>),
+    /// One morph weight (glTF's `weights` path, weight index `k` of the node's mesh), driving
+    /// these global targets of [`crate::Character::morph_targets`] (one per primitive).
+    MorphWeight {
+        targets: Vec<u32>,
+        curve: Curve<f32>,
+    },
 }
 
 impl ChannelCurve {
@@ -199,6 +222,7 @@ impl ChannelCurve {
         match self {
             Self::Translation(c) | Self::Scale(c) => c.end_time(),
             Self::Rotation(c) => c.end_time(),
+            Self::MorphWeight { curve, .. } => curve.end_time(),
         }
     }
 }
@@ -269,7 +293,29 @@ impl Clip {
                 ChannelCurve::Translation(c) => local.translation = c.sample(t),
                 ChannelCurve::Rotation(c) => local.rotation = c.sample(t),
                 ChannelCurve::Scale(c) => local.scale = c.sample(t),
+                ChannelCurve::MorphWeight { .. } => {}
             }
         }
+    }
+
+    /// Writes the clip's morph weights at `time` over `weights` (indexed by global target;
+    /// targets without a channel keep their values, targets past `weights` are skipped).
+    pub fn sample_morph_weights(&self, time: f32, wrap: Wrap, weights: &mut [f32]) {
+        let t = self.local_time(time, wrap);
+        for channel in &self.channels {
+            if let ChannelCurve::MorphWeight { targets, curve } = &channel.curve {
+                let w = curve.sample(t);
+                for &target in targets {
+                    if let Some(slot) = weights.get_mut(target as usize) {
+                        *slot = w;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether the clip animates any morph weight.
+    pub fn has_morph_weights(&self) -> bool {
+        self.channels.iter().any(|c| matches!(c.curve, ChannelCurve::MorphWeight { .. }))
     }
 }

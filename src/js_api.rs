@@ -78,6 +78,22 @@ impl Character {
         self.inner.mesh.primitives.len()
     }
 
+    /// Number of morph targets: every primitive's targets count separately (see the README).
+    #[wasm_bindgen(getter, js_name = morphTargetCount)]
+    pub fn morph_target_count(&self) -> usize {
+        self.inner.morph_targets.len()
+    }
+
+    /// Morph weights (one per target) of clip `clipName` at `timeSeconds` (looping), over the
+    /// default weights of the file's nodes and meshes.
+    ///
+    /// Throws when there is no clip of that name or the time is not a finite number.
+    #[wasm_bindgen(js_name = morphWeights)]
+    pub fn morph_weights(&self, clip_name: &str, time_seconds: f64) -> Result<Vec<f32>, JsError> {
+        let time = finite_time(time_seconds)?;
+        Ok(self.inner.morph_weights_at(self.find_clip(clip_name)?, time))
+    }
+
     /// Names of the animation clips, in file order.
     #[wasm_bindgen(getter, js_name = clipNames)]
     pub fn clip_names(&self) -> Vec<String> {
@@ -122,19 +138,14 @@ impl Character {
     }
 
     /// CPU-skinned positions (xyz per vertex, whole mesh) of clip `clipName` at `timeSeconds`
-    /// (looping).
+    /// (looping), the clip's morph weights applied before skinning.
     ///
     /// Throws when there is no clip of that name or the time is not a finite number.
     #[wasm_bindgen(js_name = skinnedPositions)]
     pub fn skinned_positions(&self, clip_name: &str, time_seconds: f64) -> Result<Vec<f32>, JsError> {
-        if !time_seconds.is_finite() {
-            return Err(JsError::new(&format!(
-                "time must be a finite number of seconds, got {time_seconds}"
-            )));
-        }
+        let time = finite_time(time_seconds)?;
         let clip = self.find_clip(clip_name)?;
-        let pose = self.inner.pose_at(clip, time_seconds as f32);
-        Ok(flatten(&self.inner.skinned_positions(&pose)))
+        Ok(flatten(&self.inner.clip_skinned_positions(clip, time)))
     }
 
     /// Builds the articulated progressive mesh and its discrete levels.
@@ -284,7 +295,8 @@ impl Clod {
         Ok(out)
     }
 
-    /// CPU-skinned positions (xyz per vertex) of level `i` in clip `clipName` at `timeSeconds`.
+    /// CPU-skinned positions (xyz per vertex) of level `i` in clip `clipName` at `timeSeconds`,
+    /// the clip's morph weights applied before skinning.
     ///
     /// Throws for an unknown level or clip, or a non-finite time.
     #[wasm_bindgen(js_name = levelSkinnedPositions)]
@@ -295,14 +307,11 @@ impl Clod {
         time_seconds: f64,
     ) -> Result<Vec<f32>, JsError> {
         self.level_ref(i)?;
-        if !time_seconds.is_finite() {
-            return Err(JsError::new(&format!(
-                "time must be a finite number of seconds, got {time_seconds}"
-            )));
-        }
+        let time = finite_time(time_seconds)?;
         let clip = self.character.clip(clip_name).ok_or_else(|| unknown_clip(&self.character, clip_name))?;
-        let skin = self.character.skin_matrices(&self.character.pose_at(clip, time_seconds as f32));
-        Ok(flatten(&self.clod.level_skinned_positions(i, &skin)))
+        let skin = self.character.skin_matrices(&self.character.pose_at(clip, time));
+        let weights = self.character.morph_weights_at(clip, time);
+        Ok(flatten(&self.clod.level_morphed_skinned_positions(i, &skin, &weights)))
     }
 }
 
@@ -401,6 +410,14 @@ fn parse_clod_options(
         )
     };
     Ok((out, on_progress))
+}
+
+/// `time_seconds` as `f32`, or the error every timed call throws.
+fn finite_time(time_seconds: f64) -> Result<f32, JsError> {
+    if !time_seconds.is_finite() {
+        return Err(JsError::new(&format!("time must be a finite number of seconds, got {time_seconds}")));
+    }
+    Ok(time_seconds as f32)
 }
 
 fn unknown_clip(character: &CoreCharacter, name: &str) -> JsError {

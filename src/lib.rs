@@ -1,7 +1,7 @@
 //! Articulated progressive meshes for skinned glTF characters, and a browser viewer that compares
 //! level-of-detail transitions (popping, alpha-blending, geomorphing) on them.
 //!
-//! The core — [`import`], [`skeleton`], [`animation`], [`skinning`] — has no GPU and no DOM
+//! The core — [`import`], [`skeleton`], [`animation`], [`morph`], [`skinning`] — has no GPU and no DOM
 //! dependency: it builds and tests natively and on `wasm32-unknown-unknown`. The `js` feature adds
 //! the wasm-bindgen API used by the page and by node; the `web` feature adds the renderer.
 //!
@@ -14,6 +14,7 @@ pub mod clod;
 pub mod import;
 pub mod mesh;
 pub mod metrics;
+pub mod morph;
 pub mod progressive;
 pub mod render;
 pub mod simplify;

@@ -8,6 +8,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
+use crate::morph::MorphDeltas;
+
 /// A contiguous range of [`SkinnedMesh::indices`] drawn with one material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PrimitiveRange {
@@ -38,6 +40,9 @@ pub struct SkinnedMesh {
     pub indices: Vec<u32>,
     /// Material ranges covering `indices` in order, without gaps.
     pub primitives: Vec<PrimitiveRange>,
+    /// Bind-space morph target deltas per vertex (empty when the file has no morph targets);
+    /// target indices are those of [`crate::Character::morph_targets`].
+    pub morph: MorphDeltas,
 }
 
 impl SkinnedMesh {

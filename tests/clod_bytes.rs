@@ -56,6 +56,7 @@ fn small_character(size: usize) -> Character {
         weights,
         indices,
         primitives,
+        morph: Default::default(),
     };
     let node = |name: &str, parent| Node { name: name.into(), parent, rest: Transform::IDENTITY };
     let skeleton = Skeleton {
@@ -65,7 +66,8 @@ fn small_character(size: usize) -> Character {
             SkinJoint { node: 1, joint_from_bind: Mat4::IDENTITY },
         ],
     };
-    Character { mesh, skeleton, clips: Vec::new(), materials: Vec::new(), warnings: Vec::new() }
+    let (clips, materials, morph_targets, warnings) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    Character { mesh, skeleton, clips, materials, morph_targets, warnings }
 }
 
 fn small_clod() -> (Character, Clod) {

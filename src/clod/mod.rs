@@ -10,16 +10,22 @@
 //!    (the collapse's survivor, as in the paper), so every level animates with every clip;
 //! 4. extract discrete levels with ancestor tables for geomorphs ([`chain`]).
 //!
+//! Morph target deltas ride along: every vertex id carries its bind-space deltas (input vertices
+//! the file's, created vertices their children's blended where the vertex moved, see `morph`),
+//! so every level morphs with every clip's weights.
+//!
 //! Positions are in the character's units; errors are distances in those units.
 
 pub mod bytes;
 pub mod chain;
+mod morph;
 pub mod poses;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::character::Character;
+use crate::morph::MorphDeltas;
 use crate::progressive::ProgressiveMesh;
 use crate::simplify::{self, CollapseMode, Quadric, SimplifyError, SimplifyInput, SimplifyOptions};
 use crate::skinning;
@@ -106,6 +112,8 @@ pub struct ArticulatedPm {
     pub colors: Option<Vec<Vec4>>,
     pub joints: Vec<[u16; 4]>,
     pub weights: Vec<[f32; 4]>,
+    /// Morph deltas of every vertex id (empty when the character has no morph targets).
+    pub morph: MorphDeltas,
     /// Created vertices whose blended skin matrix at `P0` was singular, so they kept their
     /// survivor's bind position offset by the `P0` displacement instead of an exact inverse.
     pub singular_back_propagations: usize,
@@ -398,6 +406,7 @@ fn back_propagate(
         colors: mesh.colors.clone(),
         joints: mesh.joints.clone(),
         weights: mesh.weights.clone(),
+        morph: mesh.morph.clone(),
         singular_back_propagations: 0,
         pm,
     };
@@ -455,6 +464,19 @@ fn back_propagate(
         if let Some(colors) = &mut apm.colors {
             let k = layout.color.expect("colour channels exist when the mesh has colours");
             colors.push(Vec4::from_slice(&attributes[k..k + 4]));
+        }
+        if !apm.morph.is_empty() {
+            let row = morph::created_row(
+                &apm.morph,
+                &apm.pm.positions,
+                (&apm.joints, &apm.weights),
+                x,
+                children[x - inputs],
+                survivor,
+                (joints, weights),
+                p0_skin,
+            );
+            apm.morph.push_row(row);
         }
         apm.joints.push(joints);
         apm.weights.push(weights);
@@ -525,16 +547,27 @@ impl Clod {
 
     /// CPU-skinned positions of a level's vertices, given the skin matrices of a pose.
     pub fn level_skinned_positions(&self, level: usize, skin: &[Mat4]) -> Vec<Vec3> {
+        self.level_morphed_skinned_positions(level, skin, &[])
+    }
+
+    /// CPU-skinned positions of a level's vertices with morph `weights` (one per target of the
+    /// character) applied to the bind positions before skinning.
+    pub fn level_morphed_skinned_positions(&self, level: usize, skin: &[Mat4], weights: &[f32]) -> Vec<Vec3> {
         let apm = &self.apm;
         self.levels[level]
             .vertices
             .iter()
             .map(|&v| {
                 let v = v as usize;
-                skinning::blend_matrix(skin, apm.joints[v], apm.weights[v])
-                    .transform_point3(apm.bind_positions[v])
+                let bind = apm.bind_positions[v] + apm.morph.position_offset(v, weights);
+                skinning::blend_matrix(skin, apm.joints[v], apm.weights[v]).transform_point3(bind)
             })
             .collect()
+    }
+
+    /// Bind-space morph deltas of a level's vertices, one row per level vertex.
+    pub fn level_morph_deltas(&self, level: usize) -> MorphDeltas {
+        self.apm.morph.select(self.levels[level].vertices.iter().map(|&v| v as usize))
     }
 
     /// Total bytes of the ancestor tables of all levels.

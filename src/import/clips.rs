@@ -3,8 +3,12 @@
 //! Each channel becomes one [`Curve`]: key times from the sampler's input (seconds), values from
 //! its output (floats, or for rotations normalized integers as §3.11 allows). Rotation keys are
 //! normalized (writers store them with rounding error; a zero-length key is an error). Channels
-//! on nodes outside the skeleton drive nothing we draw and are dropped; morph weight channels are
-//! dropped with a warning, as morph targets are not imported.
+//! on nodes outside the skeleton drive nothing we draw and are dropped. A `weights` channel of
+//! `N` weights becomes `N` scalar curves (`CUBICSPLINE` keys hold `N` in-tangents, `N` values,
+//! `N` out-tangents), each driving the global morph targets of that weight index; one on a node
+//! without imported morph targets is dropped with a warning.
+
+use std::collections::HashMap;
 
 use glam::{Quat, Vec3};
 use gltf_json::accessor::Type;
@@ -23,6 +27,7 @@ use crate::animation::{Channel, ChannelCurve, Clip, Curve, CurveError, Interpola
 pub(crate) fn read_clips(
     src: Source,
     slots: &[Option<usize>],
+    morph_by_node: &HashMap<usize, Vec<Vec<u32>>>,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Clip>, ImportError> {
     let mut clips = Vec::with_capacity(src.root.animations.len());
@@ -37,7 +42,8 @@ pub(crate) fn read_clips(
                     "animation '{name}' channel {c} has an unknown target path"
                 )));
             };
-            if property == Property::MorphTargetWeights {
+            let morph_targets = morph_by_node.get(&node);
+            if property == Property::MorphTargetWeights && morph_targets.is_none() {
                 dropped_weights = true;
                 continue;
             }
@@ -84,7 +90,37 @@ pub(crate) fn read_clips(
                         _ => ChannelCurve::Scale(curve),
                     }
                 }
-                _ => {
+                Property::MorphTargetWeights => {
+                    let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+                    let targets = morph_targets.expect("checked above");
+                    // Any number of weights per key: bounded by the targets the node has.
+                    let max_values = max_values.saturating_mul(targets.len().max(1));
+                    let out = read_floats(
+                        src,
+                        sampler.output.value(),
+                        &usage("key values"),
+                        &[Type::Scalar],
+                        max_values,
+                    )?;
+                    let keys = times.values.len();
+                    let weights = out.values.len().checked_div(keys * per_key).unwrap_or(0);
+                    if weights == 0 || weights * keys * per_key != out.values.len() {
+                        return Err(curve_error(CurveError::CountMismatch {
+                            times: keys,
+                            values: out.values.len(),
+                            expected: keys * per_key * targets.len(),
+                        }));
+                    }
+                    for (k, driven) in targets.iter().enumerate().take(weights) {
+                        let values = weight_keys(&out.values, weights, k, per_key);
+                        let curve =
+                            Curve::new(times.values.clone(), values, interpolation).map_err(curve_error)?;
+                        let curve = ChannelCurve::MorphWeight { targets: driven.clone(), curve };
+                        channels.push(Channel { node: slot, curve });
+                    }
+                    continue;
+                }
+                Property::Rotation => {
                     let out = read_floats(
                         src,
                         sampler.output.value(),
@@ -102,7 +138,8 @@ pub(crate) fn read_clips(
         }
         if dropped_weights {
             warnings.push(format!(
-                "animation '{name}' animates morph target weights; those channels are dropped"
+                "animation '{name}' animates morph weights of a node without imported morph targets; \
+                 those channels are dropped"
             ));
         }
         clips.push(Clip::new(name, channels));
@@ -117,6 +154,15 @@ fn property_name(p: Property) -> &'static str {
         Property::Scale => "scale",
         Property::MorphTargetWeights => "weights",
     }
+}
+
+/// The keys of weight `k` out of a `weights` sampler's output with `n` weights per value:
+/// `per_key` values per key (3 for cubic splines: in-tangent, value, out-tangent blocks of `n`).
+fn weight_keys(values: &[f32], n: usize, k: usize, per_key: usize) -> Vec<f32> {
+    // Blocks of `n` run key by key (and within a cubic key, in-tangents, values, out-tangents),
+    // which is the order [`Curve`] wants for one weight.
+    debug_assert!(values.len() % (n * per_key) == 0);
+    values.chunks_exact(n).map(|block| block[k]).collect()
 }
 
 /// Smallest rotation key length we normalize; shorter keys carry no direction.

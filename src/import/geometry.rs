@@ -7,6 +7,12 @@
 //! renormalized to sum 1), weld bit-identical corners of non-indexed primitives, fill missing
 //! normals, move rigid (unskinned) parts into bind space, and append with a [`PrimitiveRange`].
 //!
+//! Morph targets (§3.7.2.2) come along: each target's POSITION and NORMAL deltas (sparse
+//! accessors too) are kept per vertex where non-zero, moved into bind space with their primitive
+//! (deltas are directions: the linear part for positions, the normal matrix for normals), and
+//! numbered globally ([`crate::morph`]). TANGENT deltas are dropped with a warning: the viewer
+//! has no tangents. Counts are capped by [`MAX_MORPH_TARGETS`] and [`MAX_MORPH_DELTAS`].
+//!
 //! Influences with weight 0 are ignored, so their joint index may be anything. A vertex whose
 //! weights are all zero is an error naming it: the spec requires weights summing to 1, and binding
 //! it to an arbitrary joint would hide a broken export.
@@ -22,7 +28,21 @@ use super::accessor::{read_floats, read_uints, Elements, Source};
 use super::scene::{node_name, JointTable, MeshInstance, SceneGraph};
 use super::{ImportError, MAX_INDICES, MAX_VERTICES};
 use crate::mesh::{compute_normals, PrimitiveRange, SkinnedMesh};
+use crate::morph::{MorphTarget, MAX_MORPH_DELTAS, MAX_MORPH_TARGETS};
 use crate::skeleton::Skeleton;
+
+/// One vertex's morph entries within its primitive: `(local target, position Δ, normal Δ)`.
+type MorphRow = Vec<(u16, Vec3, Vec3)>;
+
+/// The morph targets the merge found: the character's targets and, per glTF node, the global
+/// targets each of its weight indices drives (for `weights` animation channels).
+#[derive(Default)]
+pub(crate) struct MorphIndex {
+    pub targets: Vec<MorphTarget>,
+    pub by_node: HashMap<usize, Vec<Vec<u32>>>,
+    /// Stored entries so far, against [`MAX_MORPH_DELTAS`].
+    entries: usize,
+}
 
 /// One primitive's vertices and triangles, in the space the file stores them.
 struct Primitive {
@@ -36,6 +56,9 @@ struct Primitive {
     indices: Vec<u32>,
     /// Whether the file gave an index buffer (otherwise corners are welded).
     indexed: bool,
+    /// Number of morph targets, and each vertex's non-zero deltas (empty when no targets).
+    target_count: usize,
+    morph: Vec<MorphRow>,
 }
 
 /// Skin data resolved to [`crate::Skeleton::joints`].
@@ -59,6 +82,7 @@ pub(crate) fn merge_meshes(
     graph: &SceneGraph,
     slots: &[Option<usize>],
     skeleton: &mut Skeleton,
+    morph: &mut MorphIndex,
     warnings: &mut Vec<String>,
 ) -> Result<SkinnedMesh, ImportError> {
     let model_from_node = skeleton.model_from_node(&skeleton.rest_pose());
@@ -73,13 +97,17 @@ pub(crate) fn merge_meshes(
             Some(name) => format!("mesh {} ('{name}')", inst.mesh),
             None => format!("mesh {}", inst.mesh),
         };
-        let has_targets = mesh.primitives.iter().any(|p| p.targets.as_ref().is_some_and(|t| !t.is_empty()));
-        if has_targets && warned_meshes.insert(inst.mesh) {
-            warnings.push(format!("{mesh_label} has morph targets; only its base shape is imported"));
+        let has_tangents =
+            mesh.primitives.iter().any(|p| p.targets.iter().flatten().any(|t| t.tangents.is_some()));
+        if has_tangents && warned_meshes.insert(inst.mesh) {
+            warnings.push(format!("{mesh_label} has TANGENT morph deltas; they are dropped (no tangents)"));
         }
+        let node_weights = src.root.nodes.get(inst.node).and_then(|n| n.weights.as_ref());
+        let default_weights = node_weights.or(mesh.weights.as_ref());
         for (p, prim_json) in mesh.primitives.iter().enumerate() {
             let label = format!("{mesh_label} primitive {p}");
             let Some(mut prim) = read_primitive(src, prim_json, &label, warnings)? else { continue };
+            read_targets(src, prim_json, &mut prim, &label, morph)?;
             let skinned = match inst.skin {
                 Some(skin) if !prim.influence_sets.is_empty() => {
                     let remap = table.skin(src, slots, skin)?;
@@ -105,11 +133,29 @@ pub(crate) fn merge_meshes(
                 },
             };
             let (prim, influences) = if prim.indexed { (prim, influences) } else { weld(prim, influences) };
-            append(&mut out, prim, influences, prim_json.material.map(|m| m.value()))?;
+            let first_target = morph.targets.len();
+            for k in 0..prim.target_count {
+                let default_weight = default_weights.and_then(|w| w.get(k)).copied().unwrap_or(0.0);
+                let default_weight = if default_weight.is_finite() { default_weight } else { 0.0 };
+                morph.targets.push(MorphTarget { name: format!("{label} target {k}"), default_weight });
+                let per_weight = morph.by_node.entry(inst.node).or_default();
+                if per_weight.len() <= k {
+                    per_weight.resize(k + 1, Vec::new());
+                }
+                per_weight[k].push((first_target + k) as u32);
+            }
+            append(&mut out, prim, influences, prim_json.material.map(|m| m.value()), first_target)?;
         }
     }
     if out.indices.is_empty() {
         return Err(ImportError::NoTriangles);
+    }
+    if !out.morph.is_empty() {
+        while out.morph.row_count() < out.positions.len() {
+            out.morph.push_row([]);
+        }
+    } else {
+        out.morph = Default::default();
     }
     skeleton.joints = table.joints;
     Ok(out)
@@ -223,7 +269,80 @@ fn read_primitive(
         warnings.push(format!("{label} has no complete triangle; skipped"));
         return Ok(None);
     }
-    Ok(Some(Primitive { positions, normals, uvs, colors, influence_sets, indices, indexed }))
+    Ok(Some(Primitive {
+        positions,
+        normals,
+        uvs,
+        colors,
+        influence_sets,
+        indices,
+        indexed,
+        target_count: 0,
+        morph: Vec::new(),
+    }))
+}
+
+/// Reads the morph targets of a primitive into `prim.morph` (non-zero deltas per vertex),
+/// counting them against the caps.
+fn read_targets(
+    src: Source,
+    prim_json: &gltf_json::mesh::Primitive,
+    prim: &mut Primitive,
+    label: &str,
+    morph: &mut MorphIndex,
+) -> Result<(), ImportError> {
+    let Some(targets) = prim_json.targets.as_ref().filter(|t| !t.is_empty()) else { return Ok(()) };
+    let total = morph.targets.len() + targets.len();
+    if total > MAX_MORPH_TARGETS {
+        return Err(ImportError::TooLarge {
+            what: format!("morph targets of the character (at {label})"),
+            count: total as u64,
+            limit: MAX_MORPH_TARGETS as u64,
+        });
+    }
+    let count = prim.positions.len();
+    let mut rows: Vec<MorphRow> = vec![Vec::new(); count];
+    for (t, target) in targets.iter().enumerate() {
+        let read = |accessor: Option<gltf_json::Index<gltf_json::Accessor>>, what: &str| {
+            let Some(a) = accessor else { return Ok(None) };
+            let usage = format!("{what} of {label} morph target {t}");
+            let e = read_floats(src, a.value(), &usage, &[Type::Vec3], MAX_VERTICES)?;
+            if e.count() != count {
+                return Err(prim_error(
+                    label,
+                    format!("morph target {t} {what} has {} elements but POSITION has {count}", e.count()),
+                ));
+            }
+            let deltas = to_vec3(&e);
+            if let Some(v) = deltas.iter().position(|d| !d.is_finite()) {
+                return Err(prim_error(
+                    label,
+                    format!("morph target {t} has a non-finite {what} at vertex {v}"),
+                ));
+            }
+            Ok(Some(deltas))
+        };
+        let positions = read(target.positions, "POSITION")?;
+        let normals = read(target.normals, "NORMAL")?;
+        for (v, row) in rows.iter_mut().enumerate() {
+            let dp = positions.as_ref().map_or(Vec3::ZERO, |d| d[v]);
+            let dn = normals.as_ref().map_or(Vec3::ZERO, |d| d[v]);
+            if dp != Vec3::ZERO || dn != Vec3::ZERO {
+                row.push((t as u16, dp, dn));
+                morph.entries += 1;
+            }
+        }
+        if morph.entries > MAX_MORPH_DELTAS {
+            return Err(ImportError::TooLarge {
+                what: format!("non-zero morph target deltas of the character (at {label})"),
+                count: morph.entries as u64,
+                limit: MAX_MORPH_DELTAS as u64,
+            });
+        }
+    }
+    prim.target_count = targets.len();
+    prim.morph = rows;
+    Ok(())
 }
 
 fn to_vec3(e: &Elements<f32>) -> Vec<Vec3> {
@@ -334,11 +453,19 @@ fn bind_rigid(
     for p in &mut prim.positions {
         *p = m.transform_point3(*p);
     }
+    // Scaled to determinant ±1: normals are normalized later anyway, and normal deltas then
+    // keep their length under uniform scale (`append` rescales them by the normal's length).
+    let normal_from_node = Mat3::from_mat4(m).inverse().transpose();
+    let normal_from_node = normal_from_node * normal_from_node.determinant().abs().cbrt().recip();
     if let Some(normals) = &mut prim.normals {
-        let normal_from_node = Mat3::from_mat4(m).inverse().transpose();
         for n in normals.iter_mut() {
             *n = normal_from_node * *n;
         }
+    }
+    // Deltas are differences of points (and of normals): the linear parts move them.
+    for entry in prim.morph.iter_mut().flatten() {
+        entry.1 = m.transform_vector3(entry.1);
+        entry.2 = normal_from_node * entry.2;
     }
     if det < 0.0 {
         // A mirroring transform turns the winding around (§3.7.2.1): swap two corners back.
@@ -358,8 +485,11 @@ fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
     let mut key_len = 3 + 4 + 4;
     key_len += prim.normals.as_ref().map_or(0, |_| 3) + prim.uvs.as_ref().map_or(0, |_| 2);
     key_len += prim.colors.as_ref().map_or(0, |_| 4);
+    // Keys have different lengths when morph rows do: key `v` is `keys[key_at[v]..key_at[v + 1]]`.
     let mut keys: Vec<u32> = Vec::with_capacity(n * key_len);
+    let mut key_at = Vec::with_capacity(n + 1);
     for v in 0..n {
+        key_at.push(keys.len());
         keys.extend(prim.positions[v].to_array().map(f32::to_bits));
         if let Some(normals) = &prim.normals {
             keys.extend(normals[v].to_array().map(f32::to_bits));
@@ -372,11 +502,19 @@ fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
         }
         keys.extend(influences.joints[v].map(u32::from));
         keys.extend(influences.weights[v].map(f32::to_bits));
+        // Corners with different morph deltas are different vertices.
+        for (t, dp, dn) in prim.morph.get(v).into_iter().flatten() {
+            keys.push(u32::from(*t));
+            keys.extend(dp.to_array().map(f32::to_bits));
+            keys.extend(dn.to_array().map(f32::to_bits));
+        }
     }
+    key_at.push(keys.len());
     let mut first: HashMap<&[u32], u32> = HashMap::with_capacity(n);
     let mut kept: Vec<usize> = Vec::new();
-    let remap: Vec<u32> = keys
-        .chunks_exact(key_len)
+    let remap: Vec<u32> = key_at
+        .windows(2)
+        .map(|w| &keys[w[0]..w[1]])
         .enumerate()
         .map(|(v, key)| {
             *first.entry(key).or_insert_with(|| {
@@ -394,6 +532,12 @@ fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
         influence_sets: Vec::new(),
         indices: prim.indices.iter().map(|&i| remap[i as usize]).collect(),
         indexed: true,
+        target_count: prim.target_count,
+        morph: if prim.morph.is_empty() {
+            Vec::new()
+        } else {
+            kept.iter().map(|&v| prim.morph[v].clone()).collect()
+        },
     };
     let influences = Influences {
         joints: kept.iter().map(|&v| influences.joints[v]).collect(),
@@ -423,6 +567,7 @@ fn append(
     prim: Primitive,
     influences: Influences,
     material: Option<usize>,
+    first_target: usize,
 ) -> Result<(), ImportError> {
     let base = out.positions.len();
     let vertices = base + prim.positions.len();
@@ -443,6 +588,19 @@ fn append(
     }
     let normals = unit_normals(&prim);
     let n = prim.positions.len();
+    if !prim.morph.is_empty() || !out.morph.is_empty() {
+        while out.morph.row_count() < base {
+            out.morph.push_row([]);
+        }
+        for v in 0..n {
+            // The base normal was normalized: scale its deltas alike, so that normalizing the
+            // morphed normal gives the file's direction (exact for rigid parts under scale).
+            let length = prim.normals.as_ref().map_or(1.0, |ns| ns[v].length());
+            let scale = if length > 0.0 && length.is_finite() { 1.0 / length } else { 1.0 };
+            let row = prim.morph.get(v).into_iter().flatten();
+            out.morph.push_row(row.map(|&(t, dp, dn)| ((first_target + t as usize) as u16, dp, dn * scale)));
+        }
+    }
     out.normals.extend(normals);
     match (&mut out.uvs, prim.uvs) {
         (Some(uvs), Some(new)) => uvs.extend(new),

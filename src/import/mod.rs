@@ -11,13 +11,13 @@
 //!    space. Skinned primitives keep the file's bind-space vertices and remap their joints into
 //!    [`crate::Skeleton::joints`]; rigid meshes get a joint of their own node and are moved into
 //!    bind space (model space at rest), so skinning at rest puts every vertex where the file does.
-//! 4. `clips`: animations as [`crate::Clip`]s over the skeleton nodes.
+//! 4. `clips`: animations as [`crate::Clip`]s over the skeleton nodes and the morph weights.
 //! 5. `material`: materials in file order with their base-colour image bytes.
 //!
 //! Accessors are read by our own code (`accessor`) with every bound checked before allocating.
 //! Bad input yields an [`ImportError`] naming the object at fault; the importer never panics, caps
 //! every count it allocates by, and cannot loop on cyclic node graphs. What it drops or changes on
-//! purpose (points and lines, morph targets, weight channels, …) is listed in
+//! purpose (points and lines, TANGENT morph deltas, channels of nodes we do not draw, …) is listed in
 //! [`Character::warnings`].
 
 mod accessor;
@@ -187,8 +187,9 @@ fn import(
 
     let graph = scene::SceneGraph::new(&root)?;
     let (mut skeleton, slots) = graph.skeleton(&root)?;
-    let mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut warnings)?;
-    let clips = clips::read_clips(src, &slots, &mut warnings)?;
+    let mut morph = geometry::MorphIndex::default();
+    let mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut morph, &mut warnings)?;
+    let clips = clips::read_clips(src, &slots, &morph.by_node, &mut warnings)?;
     let materials = material::read_materials(src, resolve, &mut warnings)?;
-    Ok(Character { mesh, skeleton, clips, materials, warnings })
+    Ok(Character { mesh, skeleton, clips, materials, morph_targets: morph.targets, warnings })
 }

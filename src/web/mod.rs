@@ -131,6 +131,14 @@ impl Viewer {
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();
+        if !character.morph_targets.is_empty() {
+            // Imported and carried by every level (CPU skinning applies them), but the shaders do
+            // not apply morph weights yet: say so rather than show a face that silently stays still.
+            warnings.push(format!(
+                "{} morph targets: the viewer draws the base shape (GPU morphing is not built yet)",
+                character.morph_targets.len()
+            ));
+        }
         let prebuilt =
             js_options::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
         let later = js_options::get_string(&options, "lod").as_deref() == Some("later");

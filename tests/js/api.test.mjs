@@ -25,6 +25,7 @@ for (const model of models) {
     assert.equal(character.jointCount, model.joints);
     assert.equal(character.jointCount, skinJointsInFile(bytes));
     assert.ok(character.primitiveCount >= 1);
+    assert.equal(character.morphTargetCount, 0);
     if (model.clips) assert.deepEqual(character.clipNames, model.clips);
     assert.ok(character.clipNames.length >= 1);
 
@@ -103,5 +104,53 @@ test('a .gltf with an external buffer loads through the resolver', (t) => {
   assert.equal(untextured.uvs(), undefined);
   assert.deepEqual(untextured.normals(), character.normals());
   untextured.free();
+  character.free();
+});
+
+/** A triangle whose corner (0, 1, 0) one morph target lifts by 1 in z, and a clip `lift` whose
+ * weight goes linearly from 0 to 1 over a second: a .gltf with its buffer as a data URI. */
+function morphingTriangle() {
+  const f32 = new Float32Array([
+    0, 0, 0, 1, 0, 0, 0, 1, 0, // positions: 0..36
+    0, 0, 0, 0, 0, 0, 0, 0, 1, // target deltas: 36..72
+    0, 1, // key times: 72..80
+    0, 1, // weights: 80..88
+  ]);
+  const uri = `data:application/octet-stream;base64,${Buffer.from(f32.buffer).toString('base64')}`;
+  const json = {
+    asset: { version: '2.0' },
+    scenes: [{ nodes: [0] }],
+    nodes: [{ mesh: 0 }],
+    meshes: [{ primitives: [{ attributes: { POSITION: 0 }, targets: [{ POSITION: 1 }] }] }],
+    animations: [{ name: 'lift', channels: [{ sampler: 0, target: { node: 0, path: 'weights' } }], samplers: [{ input: 2, output: 3 }] }],
+    buffers: [{ byteLength: 88, uri }],
+    bufferViews: [
+      { buffer: 0, byteOffset: 0, byteLength: 36 }, { buffer: 0, byteOffset: 36, byteLength: 36 },
+      { buffer: 0, byteOffset: 72, byteLength: 8 }, { buffer: 0, byteOffset: 80, byteLength: 8 },
+    ],
+    accessors: [
+      { bufferView: 0, componentType: 5126, count: 3, type: 'VEC3', min: [0, 0, 0], max: [1, 1, 0] },
+      { bufferView: 1, componentType: 5126, count: 3, type: 'VEC3' },
+      { bufferView: 2, componentType: 5126, count: 2, type: 'SCALAR', min: [0], max: [1] },
+      { bufferView: 3, componentType: 5126, count: 2, type: 'SCALAR' },
+    ],
+  };
+  return new TextEncoder().encode(JSON.stringify(json));
+}
+
+test('morph targets and their clip weights reach skinnedPositions and levelSkinnedPositions', () => {
+  const character = api.Character.fromGltf(morphingTriangle(), () => null);
+  assert.equal(character.morphTargetCount, 1);
+  assert.deepEqual(character.warnings, []);
+  assert.deepEqual([...character.morphWeights('lift', 0.5)], [0.5]);
+  const posed = character.skinnedPositions('lift', 0.5);
+  assert.deepEqual([...posed], [0, 0, 0, 1, 0, 0, 0, 1, 0.5]);
+  const clod = character.buildClod({ pose: 'bind' });
+  const level = clod.levelSkinnedPositions(0, 'lift', 0.25);
+  // Level vertices are in first-use order: find the lifted corner by its position.
+  const lifted = [0, 1, 2].filter((v) => level[3 * v + 1] === 1);
+  assert.equal(lifted.length, 1);
+  assert.equal(level[3 * lifted[0] + 2], 0.25);
+  clod.free();
   character.free();
 });

@@ -18,8 +18,8 @@
 //!
 //! 1. header: magic `b"CLOD"`, format version `u32` ([`FORMAT_VERSION`]);
 //! 2. the character: `n` and the triangle count (`u32`), and a 64-bit fingerprint of its mesh
-//!    ([`fingerprint`]: FNV-1a over positions, normals, uvs, colours, joints, weights and
-//!    triangles), so a chain is never attached to another character;
+//!    ([`fingerprint`]: FNV-1a over positions, normals, uvs, colours, joints, weights,
+//!    triangles and morph deltas), so a chain is never attached to another character;
 //! 3. the build's choices: pose tag `u32` (0 bind, 1 clip frame, 2 multi-pose, 3 mid-clip; a
 //!    clip frame adds the clip name as `u32` byte count and UTF-8, and the time `f32` in
 //!    seconds; multi-pose adds `frames_per_clip` as `u64`); the weight rule `u32` (0 survivor,
@@ -48,6 +48,7 @@ use self::io::{Reader, Writer};
 use super::{Clod, SimplificationPose};
 use super::{ClodError, PoseInput, WeightRule};
 use crate::character::Character;
+use crate::morph::MorphDeltas;
 use crate::progressive::{CollapseRecord, CornerChange, ProgressiveMesh};
 use crate::simplify::StopReason;
 
@@ -122,6 +123,7 @@ pub fn encode(clod: &Clod) -> Vec<u8> {
         joints: &apm.joints[..n],
         weights: &apm.weights[..n],
         indices: &input_indices,
+        morph: &apm.morph,
     }));
 
     // The build's choices.
@@ -184,6 +186,8 @@ struct MeshArrays<'a> {
     joints: &'a [[u16; 4]],
     weights: &'a [[f32; 4]],
     indices: &'a [u32],
+    /// Morph deltas; rows past the vertex count (a chain's created vertices) are not hashed.
+    morph: &'a MorphDeltas,
 }
 
 /// 64-bit FNV-1a over the little-endian 32-bit words of the mesh's counts and arrays (joints
@@ -209,6 +213,13 @@ fn fingerprint(mesh: &MeshArrays) -> u64 {
         word(u32::from(j[2]) | u32::from(j[3]) << 16);
     }
     mesh.indices.iter().for_each(|&i| word(i));
+    for v in 0..mesh.positions.len() {
+        for (target, position, normal) in mesh.morph.of(v) {
+            word(v as u32);
+            word(target.into());
+            position.to_array().into_iter().chain(normal.to_array()).for_each(|x| word(x.to_bits()));
+        }
+    }
     hash
 }
 
@@ -299,6 +310,7 @@ fn check_character(r: &mut Reader, character: &Character) -> Result<()> {
         joints: &mesh.joints,
         weights: &mesh.weights,
         indices: &mesh.indices,
+        morph: &mesh.morph,
     });
     if r.u64("fingerprint")? != ours {
         return Err(ClodBytesError::OtherCharacter);
