@@ -260,11 +260,14 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
     if r.remaining() > 0 {
         return Err(ClodBytesError::TrailingBytes { count: r.remaining() });
     }
-    let clod = Clod { apm, levels, pose };
+    let mut clod = Clod { apm, levels, pose, flat: Vec::new() };
     check_character(&clod, character)?;
     check_forest(&clod.apm.pm)?;
     check_replay(&clod.apm.pm)?;
     check_levels(&clod)?;
+    // Derived from the character, as the build does; not stored.
+    let weld = super::shading::ShadingWeld::new(&character.mesh, &super::triangle_materials(character));
+    clod.flat = super::shading::flat_ids(&weld, &clod.apm.pm);
     Ok(clod)
 }
 
@@ -598,7 +601,10 @@ fn check_character(clod: &Clod, character: &Character) -> Result<()> {
         }
     }
 
-    // The base triangles are the character's, in the order triangle_source gives.
+    // The base triangles are the character's (its flat vertices welded, as the build does), in
+    // the order triangle_source gives.
+    let weld = super::shading::ShadingWeld::new(mesh, &super::triangle_materials(character));
+    let welded = weld.weld_indices(&mesh.indices);
     let triangles = pm.triangle_source.len();
     expect_below("triangle_source", &pm.triangle_source, triangles)?;
     let mut seen = vec![false; triangles];
@@ -607,7 +613,7 @@ fn check_character(clod: &Clod, character: &Character) -> Result<()> {
             return Err(inconsistent("triangle_source", t, "an input triangle appears twice"));
         }
         let s = 3 * source as usize;
-        if pm.indices[3 * t..3 * t + 3] != mesh.indices[s..s + 3] {
+        if pm.indices[3 * t..3 * t + 3] != welded[s..s + 3] {
             return Err(ClodBytesError::CharacterDataMismatch { what: "triangle", index: source as usize });
         }
     }

@@ -15,6 +15,7 @@
 pub mod bytes;
 pub mod chain;
 pub mod poses;
+pub mod shading;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
@@ -118,6 +119,9 @@ pub struct Clod {
     /// Finest first; level `i`'s ancestor table points into level `i + 1`.
     pub levels: Vec<LodLevel>,
     pub pose: SimplificationPose,
+    /// Per vertex id: flat-shaded (rendered with its triangle's face normal at every level; see
+    /// [`shading`]). Derived from the character, not stored in the chain's bytes.
+    pub flat: Vec<bool>,
 }
 
 /// Attribute channel layout handed to the simplifier: normal xyz first, then uv, then rgba.
@@ -182,23 +186,38 @@ pub fn build(
         Some(skin) => skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, skin),
         None => mesh.normals.clone(),
     };
-    let vertex_quadrics = match &options.pose {
+    // Flat-shaded vertices welded across their normal seams (see `shading`): the simplifier
+    // sees one vertex per facet corner group, its normal unpriced.
+    let triangle_materials = triangle_materials(character);
+    let weld = shading::ShadingWeld::new(mesh, &triangle_materials);
+    let indices = weld.weld_indices(&mesh.indices);
+    let p0_normals = weld.simplifier_normals(&p0_normals);
+    let mut vertex_quadrics = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
             multi_pose_quadrics(character, *frames_per_clip, p0_matrices.as_deref())
         }
         _ => None,
     };
+    if let Some(quadrics) = &mut vertex_quadrics {
+        // A welded-away vertex is used by no triangle: its planes go to its representative.
+        for v in 0..quadrics.len() {
+            let r = weld.representative[v] as usize;
+            if r != v {
+                let q = std::mem::replace(&mut quadrics[v], Quadric::ZERO);
+                quadrics[r] += &q;
+            }
+        }
+    }
     progress(0.15);
 
     // 2. Simplify the static P0 mesh.
     let layout = attribute_layout(character, &p0_positions);
     let attributes = interleave_attributes(character, &p0_normals, &layout);
-    let triangle_materials = triangle_materials(character);
     let input = SimplifyInput {
         positions: &p0_positions,
         attributes: &attributes,
         attribute_weights: &layout.weights,
-        indices: &mesh.indices,
+        indices: &indices,
         triangle_materials: &triangle_materials,
         vertex_quadrics: vertex_quadrics.as_deref(),
     };
@@ -219,7 +238,8 @@ pub fn build(
     // 4. Discrete levels and their ancestor tables.
     let levels = chain::build_levels(&apm.pm, &levels);
     progress(1.0);
-    Ok(Clod { apm, levels, pose: options.pose.clone() })
+    let flat = shading::flat_ids(&weld, &apm.pm);
+    Ok(Clod { apm, levels, pose: options.pose.clone(), flat })
 }
 
 /// Skin matrices of `P0`, or `None` for the bind pose (all identity) and multi-pose (which
@@ -321,7 +341,7 @@ fn interleave_attributes(character: &Character, normals: &[Vec3], layout: &Attri
 
 /// One id per triangle: its primitive's material (`u32::MAX` for the default material), so
 /// borders between materials are kept and primitives sharing a material may merge.
-fn triangle_materials(character: &Character) -> Vec<u32> {
+pub(crate) fn triangle_materials(character: &Character) -> Vec<u32> {
     let mut out = vec![u32::MAX; character.mesh.triangle_count()];
     for range in &character.mesh.primitives {
         let first = range.first_index as usize / 3;
