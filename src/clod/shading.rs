@@ -7,8 +7,10 @@
 //! do not: a *normal seam*, an edge whose two sides differ only in the normal, is not a constraint
 //! when both sides are faceted. So:
 //! - a vertex is **flat** when its normal is its face's normal at every (non-degenerate) triangle
-//!   that uses it and another flat vertex at its position has a different normal (a facet edge
-//!   passes there; a lone vertex on a planar patch of a smooth mesh stays smooth);
+//!   that uses it and another such vertex shares its position and other attributes (a facet
+//!   corner: a smooth mesh shares one vertex there), or when all its triangles' corners are such
+//!   vertices and one is flat (inside a subdivided facet); a lone vertex on a planar patch of a
+//!   smooth mesh stays smooth;
 //! - flat vertices that share position, uv, colour, skin and material are **welded** into their
 //!   lowest-index vertex, whose normal the simplifier does not price (see
 //!   [`ShadingWeld::simplifier_normals`]). The simplifier collapses the welded mesh; uv, colour and material borders stay constraints, and so do creases between smooth
@@ -94,14 +96,32 @@ impl ShadingWeld {
         let mut flat = vec![false; n];
         let mut representative: Vec<u32> = (0..n as u32).collect();
         for group in groups.values() {
-            // Vertices are pushed in increasing order: group[0] is the lowest.
-            let first = mesh.normals[group[0] as usize];
-            if group.iter().all(|&v| mesh.normals[v as usize].dot(first) >= FLAT_COS) {
-                continue; // one normal: no facet edge here
+            // A lone vertex is no evidence of facets (a smooth mesh's planar patch); two or more
+            // are facet corners (a smooth mesh would share one vertex). Vertices are pushed in
+            // increasing order: group[0] is the lowest.
+            if group.len() < 2 {
+                continue;
             }
             for &v in group {
                 flat[v as usize] = true;
                 representative[v as usize] = group[0];
+            }
+        }
+        // A lone candidate inside a faceted region (the middle of a subdivided facet) is flat
+        // too: every triangle it is in has only candidate corners and one of them is flat.
+        let mut inside = vec![true; n];
+        let mut near_flat = vec![false; n];
+        for tri in mesh.indices.chunks_exact(3) {
+            let all = tri.iter().all(|&v| candidate[v as usize]);
+            let any = tri.iter().any(|&v| flat[v as usize]);
+            for &v in tri {
+                inside[v as usize] &= all;
+                near_flat[v as usize] |= any;
+            }
+        }
+        for v in 0..n {
+            if candidate[v] && !flat[v] && inside[v] && near_flat[v] {
+                flat[v] = true;
             }
         }
         ShadingWeld { flat, representative }
