@@ -266,7 +266,7 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
     check_replay(&clod.apm.pm)?;
     check_levels(&clod)?;
     // Derived from the character, as the build does; not stored.
-    let weld = super::shading::ShadingWeld::new(&character.mesh, &super::triangle_materials(character));
+    let weld = super::shading::ShadingWeld::of_character(character);
     clod.flat = super::shading::flat_ids(&weld, &clod.apm.pm);
     Ok(clod)
 }
@@ -603,7 +603,7 @@ fn check_character(clod: &Clod, character: &Character) -> Result<()> {
 
     // The base triangles are the character's (its flat vertices welded, as the build does), in
     // the order triangle_source gives.
-    let weld = super::shading::ShadingWeld::new(mesh, &super::triangle_materials(character));
+    let weld = super::shading::ShadingWeld::of_character(character);
     let welded = weld.weld_indices(&mesh.indices);
     let triangles = pm.triangle_source.len();
     expect_below("triangle_source", &pm.triangle_source, triangles)?;

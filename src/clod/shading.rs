@@ -13,8 +13,9 @@
 //!   smooth mesh stays smooth;
 //! - flat vertices that share position, uv, colour, skin and material are **welded** into their
 //!   lowest-index vertex, whose normal the simplifier does not price (see
-//!   [`ShadingWeld::simplifier_normals`]). The simplifier collapses the welded mesh; uv, colour and material borders stay constraints, and so do creases between smooth
-//!   groups (non-flat vertices are never welded: a crease that survives stays sharp);
+//!   [`ShadingWeld::simplifier_normals`]). The simplifier collapses the welded mesh; uv, colour
+//!   and material borders stay constraints, and so do creases between smooth groups (non-flat
+//!   vertices are never welded: a crease that survives stays sharp);
 //! - the renderer gives every corner of a flat vertex its triangle's face normal at each level
 //!   (both ends of a geomorph), so the faceted look survives simplification
 //!   ([`crate::render::lod_source`]).
@@ -125,6 +126,12 @@ impl ShadingWeld {
             }
         }
         ShadingWeld { flat, representative }
+    }
+
+    /// [`ShadingWeld::new`] with the character's per-primitive materials, as the chain's build
+    /// welds it.
+    pub fn of_character(character: &crate::Character) -> Self {
+        Self::new(&character.mesh, &super::triangle_materials(character))
     }
 
     /// Whether any vertex is flat.

@@ -91,7 +91,9 @@ pub struct LevelData {
     /// For each vertex, its ancestor's index in the next coarser level (empty for the coarsest):
     /// chained, they join this level to any coarser one.
     pub next: Vec<u32>,
-    /// Per vertex: faceted, used by one triangle only and carrying its face normal at both ends.
+    /// Per vertex: faceted (a flat id: its fine normal is its triangle's face normal). A vertex
+    /// that is faceted or whose ancestor is (its coarse normal is then the face normal at the
+    /// ancestors' positions) is used by one triangle only.
     pub faceted: Vec<bool>,
 }
 
@@ -178,15 +180,29 @@ impl LodSource {
                 }
             })
             .collect();
-        // A faceted corner's coarse end takes its triangle's face normal at the coarse positions
-        // (the ancestor's own normal belongs to one of its coarse triangles, maybe another).
+        // A corner whose ancestor is faceted in the coarse level takes its triangle's face normal
+        // at the coarse positions (the ancestor's own normal belongs to one of its coarse
+        // triangles, maybe another). A fine vertex that its own level shares (neither it nor its
+        // next ancestor flat) gets the normal of the last of its triangles.
+        let faceted_ancestor: Vec<bool> = (0..vertices.len())
+            .map(|k| {
+                let a = chain.iter().fold(k as u32, |v, level| level.next[v as usize]);
+                self.levels[coarse].faceted[a as usize]
+            })
+            .collect();
         let level = &self.levels[fine];
         for tri in level.indices.chunks_exact(3) {
-            if tri.iter().any(|&v| level.faceted[v as usize]) {
-                let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(vertices[tri[k] as usize].coarse.position));
-                for &v in tri.iter().filter(|&&v| level.faceted[v as usize]) {
-                    let vertex = &mut vertices[v as usize];
-                    vertex.coarse.normal = face_normal(a, b, c).map_or(vertex.fine.normal, |n| n.to_array());
+            if tri.iter().any(|&v| faceted_ancestor[v as usize]) {
+                let at = |k: usize, coarse: bool| {
+                    let v = &vertices[tri[k] as usize];
+                    Vec3::from(if coarse { v.coarse.position } else { v.fine.position })
+                };
+                let fine_normal = face_normal(at(0, false), at(1, false), at(2, false));
+                let normal = face_normal(at(0, true), at(1, true), at(2, true)).or(fine_normal);
+                for &v in tri.iter().filter(|&&v| faceted_ancestor[v as usize]) {
+                    if let Some(n) = normal {
+                        vertices[v as usize].coarse.normal = n.to_array();
+                    }
                 }
             }
         }
@@ -280,10 +296,11 @@ pub fn triangle_materials(primitives: &[PrimitiveRange], triangles: usize) -> Ve
 /// is the level's ancestor table (or empty). Triangles are grouped by material (stably, so a
 /// vertex-cache order within a material stays).
 ///
-/// Every corner of a flat id gets a vertex of its own (the vertex's first such corner keeps it,
-/// later ones get copies appended, with the same `next` entry) whose normal is its triangle's
-/// face normal: at the level's positions for the fine end, at the ancestors' for the coarse end
-/// (the fine one where that triangle has degenerated).
+/// Every corner of a flat id, or of an id whose ancestor is flat, gets a vertex of its own (the
+/// vertex's first such corner keeps it, later ones get copies appended, with the same `next`
+/// entry). A flat end's normal is its triangle's face normal: at the level's positions for the
+/// fine end, at the ancestors' for the coarse end (the fine one where that triangle has
+/// degenerated).
 ///
 /// # Panics
 /// If the arrays disagree in length or an id or index is out of range (callers build them from
@@ -312,10 +329,14 @@ pub fn build_level(
     let mut indices = std::borrow::Cow::Borrowed(indices);
     if let Some(flat) = attributes.flat {
         let indices = indices.to_mut();
-        let is_flat: Vec<bool> = ids.iter().map(|&v| flat[v as usize]).collect();
+        let fine_flat: Vec<bool> = ids.iter().map(|&v| flat[v as usize]).collect();
+        let coarse_flat: Vec<bool> = ancestor_ids.iter().map(|&a| flat[a as usize]).collect();
+        let split = |v: u32| fine_flat[v as usize] || coarse_flat[v as usize];
+        // Whether a triangle already took the vertex (later ones get copies).
+        let mut claimed = vec![false; vertices.len()];
         for t in 0..indices.len() / 3 {
             let tri = [indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]];
-            if !tri.iter().any(|&v| is_flat[v as usize]) {
+            if !tri.iter().any(|&v| split(v)) {
                 continue;
             }
             let end = |k: usize, coarse: bool| {
@@ -325,25 +346,27 @@ pub fn build_level(
             let fine_normal = face_normal(end(0, false), end(1, false), end(2, false));
             let coarse_normal = face_normal(end(0, true), end(1, true), end(2, true)).or(fine_normal);
             for (k, &v) in tri.iter().enumerate() {
-                if !is_flat[v as usize] {
+                if !split(v) {
                     continue;
                 }
-                let slot = if faceted[v as usize] {
+                let slot = if claimed[v as usize] {
                     vertices.push(vertices[v as usize]);
-                    faceted.push(true);
+                    claimed.push(true);
+                    faceted.push(fine_flat[v as usize]);
                     if let Some(&n) = next.get(v as usize) {
                         next.push(n);
                     }
                     vertices.len() - 1
                 } else {
-                    faceted[v as usize] = true;
+                    claimed[v as usize] = true;
+                    faceted[v as usize] = fine_flat[v as usize];
                     v as usize
                 };
                 let vertex = &mut vertices[slot];
-                if let Some(n) = fine_normal {
+                if let (true, Some(n)) = (fine_flat[v as usize], fine_normal) {
                     vertex.fine.normal = n.to_array();
                 }
-                if let Some(n) = coarse_normal {
+                if let (true, Some(n)) = (coarse_flat[v as usize], coarse_normal) {
                     vertex.coarse.normal = n.to_array();
                 }
                 indices[3 * t + k] = slot as u32;
