@@ -33,8 +33,10 @@ step "native tests"
 cargo test --workspace 2>&1 | tee "$logs/native.log"
 node scripts/count-tests.mjs native "$logs/native.log" "$summary"
 
-step "the built-in character: assets/character.glb equals what its generator makes"
+step "the built-in characters: assets/{character,robot,parts}.glb equal what their generator makes"
 cargo run --quiet -p make-character -- --check assets/character.glb
+cargo run --quiet -p make-character -- --check assets/robot.glb
+cargo run --quiet -p make-character -- --check assets/parts.glb
 
 step "the same tests under node (wasm-pack test --node)"
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"

@@ -20,6 +20,7 @@ pub mod bytes;
 pub mod chain;
 mod morph;
 pub mod poses;
+pub mod shading;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
@@ -128,6 +129,9 @@ pub struct Clod {
     pub pose: SimplificationPose,
     /// The rule that gave created vertices their skin weights.
     pub weights: WeightRule,
+    /// Per vertex id: flat-shaded (rendered with its triangle's face normal at every level; see
+    /// [`shading`]). Derived from the character, not stored in the chain's bytes.
+    pub flat: Vec<bool>,
 }
 
 /// Attribute channel layout handed to the simplifier: normal xyz first, then uv, then rgba.
@@ -181,24 +185,34 @@ pub fn build(
     }
     progress(0.0);
 
-    // 1. The simplification pose P0, and for multi-pose the plane quadrics of every frame.
+    // 1. The simplification pose P0 (flat-shaded vertices welded across their normal seams, see
+    // `shading`), and for multi-pose the plane quadrics of every frame.
     let input = PoseInput::new(character, &options.pose)?;
-    let vertex_quadrics = match &options.pose {
+    let mut vertex_quadrics = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
             multi_pose_quadrics(character, *frames_per_clip, input.vertex_matrices.as_deref())
         }
         _ => None,
     };
+    if let Some(quadrics) = &mut vertex_quadrics {
+        // A welded-away vertex is used by no triangle: its planes go to its representative.
+        for v in 0..quadrics.len() {
+            let r = input.weld.representative[v] as usize;
+            if r != v {
+                let q = std::mem::replace(&mut quadrics[v], Quadric::ZERO);
+                quadrics[r] += &q;
+            }
+        }
+    }
     progress(0.15);
 
     // 2. Simplify the static P0 mesh.
-    let triangle_materials = triangle_materials(character);
     let simplify_input = SimplifyInput {
         positions: &input.positions,
         attributes: &input.attributes,
         attribute_weights: &input.layout.weights,
-        indices: &mesh.indices,
-        triangle_materials: &triangle_materials,
+        indices: &input.indices,
+        triangle_materials: &input.triangle_materials,
         vertex_quadrics: vertex_quadrics.as_deref(),
     };
     let simplify_options = SimplifyOptions {
@@ -220,7 +234,8 @@ pub fn build(
     // 4. Discrete levels and their ancestor tables.
     let levels = chain::build_levels(&apm.pm, &levels);
     progress(1.0);
-    Ok(Clod { apm, levels, pose: options.pose.clone(), weights: options.weights })
+    let flat = shading::flat_ids(&input.weld, &apm.pm);
+    Ok(Clod { apm, levels, pose: options.pose.clone(), weights: options.weights, flat })
 }
 
 /// What the simplifier sees of the character in the simplification pose `P0`: positions and
@@ -233,8 +248,13 @@ pub(crate) struct PoseInput {
     /// Each input vertex's blended skin matrix at `P0` (`None` as `skin`).
     vertex_matrices: Option<Vec<Mat4>>,
     pub(crate) positions: Vec<Vec3>,
+    /// Normals are the simplifier's: zero for flat-shaded vertices ([`shading`]).
     pub(crate) attributes: Vec<f32>,
     pub(crate) layout: AttributeLayout,
+    /// The character's triangles with flat-shaded vertices welded, and each one's material.
+    pub(crate) indices: Vec<u32>,
+    pub(crate) triangle_materials: Vec<u32>,
+    pub(crate) weld: shading::ShadingWeld,
 }
 
 impl PoseInput {
@@ -253,9 +273,22 @@ impl PoseInput {
             Some(skin) => skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, skin),
             None => mesh.normals.clone(),
         };
+        let triangle_materials = triangle_materials(character);
+        let weld = shading::ShadingWeld::new(mesh, &triangle_materials);
+        let indices = weld.weld_indices(&mesh.indices);
+        let normals = weld.simplifier_normals(&normals);
         let layout = attribute_layout(character, &positions);
         let attributes = interleave_attributes(character, &normals, &layout);
-        Ok(PoseInput { skin, vertex_matrices, positions, attributes, layout })
+        Ok(PoseInput {
+            skin,
+            vertex_matrices,
+            positions,
+            attributes,
+            layout,
+            indices,
+            triangle_materials,
+            weld,
+        })
     }
 }
 
@@ -272,7 +305,8 @@ pub(crate) fn articulate(
 ) -> Clod {
     let apm = back_propagate(character, pm, input.skin.as_deref(), weights, &input.layout);
     let levels = chain::build_levels(&apm.pm, level_triangles);
-    Clod { apm, levels, pose, weights }
+    let flat = shading::flat_ids(&input.weld, &apm.pm);
+    Clod { apm, levels, pose, weights, flat }
 }
 
 /// Skin matrices of `P0`, or `None` for the bind pose (all identity) and multi-pose (which
@@ -374,7 +408,7 @@ fn interleave_attributes(character: &Character, normals: &[Vec3], layout: &Attri
 
 /// One id per triangle: its primitive's material (`u32::MAX` for the default material), so
 /// borders between materials are kept and primitives sharing a material may merge.
-fn triangle_materials(character: &Character) -> Vec<u32> {
+pub(crate) fn triangle_materials(character: &Character) -> Vec<u32> {
     let mut out = vec![u32::MAX; character.mesh.triangle_count()];
     for range in &character.mesh.primitives {
         let first = range.first_index as usize / 3;

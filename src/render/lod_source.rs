@@ -10,6 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::character::Character;
+use crate::clod::shading::face_normal;
 use crate::clod::{ArticulatedPm, Clod};
 use crate::mesh::PrimitiveRange;
 use crate::progressive::PmCursor;
@@ -45,12 +46,17 @@ pub struct Attributes<'a> {
     pub colors: Option<&'a [Vec4]>,
     pub joints: &'a [[u16; 4]],
     pub weights: &'a [[f32; 4]],
+    /// Per id: flat-shaded, drawn with each triangle's face normal ([`crate::clod::shading`]);
+    /// `None` when no vertex is.
+    pub flat: Option<&'a [bool]>,
 }
 
 impl<'a> Attributes<'a> {
     /// The bind-space attributes of an articulated progressive mesh, by vertex id.
-    fn of_apm(apm: &'a ArticulatedPm) -> Self {
+    fn of_clod(clod: &'a Clod) -> Self {
+        let apm: &ArticulatedPm = &clod.apm;
         Self {
+            flat: clod.flat.contains(&true).then_some(&clod.flat[..]),
             positions: &apm.bind_positions,
             normals: &apm.bind_normals,
             uvs: apm.uvs.as_deref(),
@@ -85,6 +91,10 @@ pub struct LevelData {
     /// For each vertex, its ancestor's index in the next coarser level (empty for the coarsest):
     /// chained, they join this level to any coarser one.
     pub next: Vec<u32>,
+    /// Per vertex: faceted (a flat id: its fine normal is its triangle's face normal). A vertex
+    /// that is faceted or whose ancestor is (its coarse normal is then the face normal at the
+    /// ancestors' positions) is used by one triangle only.
+    pub faceted: Vec<bool>,
 }
 
 impl LevelData {
@@ -111,10 +121,12 @@ impl LodSource {
             colors: mesh.colors.as_deref(),
             joints: &mesh.joints,
             weights: &mesh.weights,
+            // The full mesh draws its own normals, faceted or not.
+            flat: None,
         };
         let ids: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
         let materials = triangle_materials(&mesh.primitives, mesh.triangle_count());
-        let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0);
+        let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0, &[]);
         Self { levels: vec![level] }
     }
 
@@ -124,8 +136,7 @@ impl LodSource {
     /// A level triangle takes the material of the input vertex its first corner descends from
     /// (the simplifier keeps material borders, so all three corners agree).
     pub fn from_clod(character: &Character, clod: &Clod) -> Self {
-        let apm = &clod.apm;
-        let attributes = Attributes::of_apm(apm);
+        let attributes = Attributes::of_clod(clod);
         let materials_of = clod_materials(character, clod);
         let levels = clod
             .levels
@@ -137,16 +148,15 @@ impl LodSource {
                     None => level.vertices.clone(),
                 };
                 let materials = materials_of(&level.vertices, &level.indices);
-                let mut data = build_level(
+                build_level(
                     &attributes,
                     &level.vertices,
                     &ancestor_ids,
                     &level.indices,
                     &materials,
                     level.error,
-                );
-                data.next = level.ancestors.clone();
-                data
+                    &level.ancestors,
+                )
             })
             .collect();
         Self { levels }
@@ -161,7 +171,7 @@ impl LodSource {
         }
         let chain = &self.levels[fine..coarse];
         let target = &self.levels[coarse].vertices;
-        let vertices = (0..self.levels[fine].vertices.len())
+        let mut vertices: Vec<GeomorphVertexRaw> = (0..self.levels[fine].vertices.len())
             .map(|k| {
                 let a = chain.iter().fold(k as u32, |v, level| level.next[v as usize]);
                 GeomorphVertexRaw {
@@ -170,6 +180,32 @@ impl LodSource {
                 }
             })
             .collect();
+        // A corner whose ancestor is faceted in the coarse level takes its triangle's face normal
+        // at the coarse positions (the ancestor's own normal belongs to one of its coarse
+        // triangles, maybe another). A fine vertex that its own level shares (neither it nor its
+        // next ancestor flat) gets the normal of the last of its triangles.
+        let faceted_ancestor: Vec<bool> = (0..vertices.len())
+            .map(|k| {
+                let a = chain.iter().fold(k as u32, |v, level| level.next[v as usize]);
+                self.levels[coarse].faceted[a as usize]
+            })
+            .collect();
+        let level = &self.levels[fine];
+        for tri in level.indices.chunks_exact(3) {
+            if tri.iter().any(|&v| faceted_ancestor[v as usize]) {
+                let at = |k: usize, coarse: bool| {
+                    let v = &vertices[tri[k] as usize];
+                    Vec3::from(if coarse { v.coarse.position } else { v.fine.position })
+                };
+                let fine_normal = face_normal(at(0, false), at(1, false), at(2, false));
+                let normal = face_normal(at(0, true), at(1, true), at(2, true)).or(fine_normal);
+                for &v in tri.iter().filter(|&&v| faceted_ancestor[v as usize]) {
+                    if let Some(n) = normal {
+                        vertices[v as usize].coarse.normal = n.to_array();
+                    }
+                }
+            }
+        }
         Some(vertices)
     }
 
@@ -185,7 +221,7 @@ impl LodSource {
         coarse_collapses: usize,
     ) -> LevelData {
         let apm = &clod.apm;
-        let attributes = Attributes::of_apm(apm);
+        let attributes = Attributes::of_clod(clod);
         let materials = clod_materials(character, clod)(cursor.vertices(), cursor.indices());
         let error = apm.pm.distance_after(cursor.level());
         let ancestors: Vec<u32> = if coarse_collapses > cursor.level() {
@@ -193,7 +229,7 @@ impl LodSource {
         } else {
             cursor.vertices().to_vec()
         };
-        build_level(&attributes, cursor.vertices(), &ancestors, cursor.indices(), &materials, error)
+        build_level(&attributes, cursor.vertices(), &ancestors, cursor.indices(), &materials, error, &[])
     }
 
     /// Geometric error of every level, finest first.
@@ -256,8 +292,15 @@ pub fn triangle_materials(primitives: &[PrimitiveRange], triangles: usize) -> Ve
 }
 
 /// Builds one level: `ids[k]` is the attribute id of level vertex `k` and `ancestor_ids[k]` that
-/// of its ancestor; `indices` index level vertices; `materials` has one entry per triangle.
-/// Triangles are grouped by material (stably, so a vertex-cache order within a material stays).
+/// of its ancestor; `indices` index level vertices; `materials` has one entry per triangle; `next`
+/// is the level's ancestor table (or empty). Triangles are grouped by material (stably, so a
+/// vertex-cache order within a material stays).
+///
+/// Every corner of a flat id, or of an id whose ancestor is flat, gets a vertex of its own (the
+/// vertex's first such corner keeps it, later ones get copies appended, with the same `next`
+/// entry). A flat end's normal is its triangle's face normal: at the level's positions for the
+/// fine end, at the ancestors' for the coarse end (the fine one where that triangle has
+/// degenerated).
 ///
 /// # Panics
 /// If the arrays disagree in length or an id or index is out of range (callers build them from
@@ -269,10 +312,11 @@ pub fn build_level(
     indices: &[u32],
     materials: &[Option<usize>],
     error: f32,
+    next: &[u32],
 ) -> LevelData {
     assert_eq!(ids.len(), ancestor_ids.len(), "one ancestor per vertex");
     assert_eq!(indices.len(), 3 * materials.len(), "one material per triangle");
-    let vertices = ids
+    let mut vertices: Vec<GeomorphVertexRaw> = ids
         .iter()
         .zip(ancestor_ids)
         .map(|(&v, &a)| GeomorphVertexRaw {
@@ -280,6 +324,55 @@ pub fn build_level(
             coarse: attributes.vertex(a as usize),
         })
         .collect();
+    let mut next = next.to_vec();
+    let mut faceted = vec![false; vertices.len()];
+    let mut indices = std::borrow::Cow::Borrowed(indices);
+    if let Some(flat) = attributes.flat {
+        let indices = indices.to_mut();
+        let fine_flat: Vec<bool> = ids.iter().map(|&v| flat[v as usize]).collect();
+        let coarse_flat: Vec<bool> = ancestor_ids.iter().map(|&a| flat[a as usize]).collect();
+        let split = |v: u32| fine_flat[v as usize] || coarse_flat[v as usize];
+        // Whether a triangle already took the vertex (later ones get copies).
+        let mut claimed = vec![false; vertices.len()];
+        for t in 0..indices.len() / 3 {
+            let tri = [indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]];
+            if !tri.iter().any(|&v| split(v)) {
+                continue;
+            }
+            let end = |k: usize, coarse: bool| {
+                let v = &vertices[tri[k] as usize];
+                Vec3::from(if coarse { v.coarse.position } else { v.fine.position })
+            };
+            let fine_normal = face_normal(end(0, false), end(1, false), end(2, false));
+            let coarse_normal = face_normal(end(0, true), end(1, true), end(2, true)).or(fine_normal);
+            for (k, &v) in tri.iter().enumerate() {
+                if !split(v) {
+                    continue;
+                }
+                let slot = if claimed[v as usize] {
+                    vertices.push(vertices[v as usize]);
+                    claimed.push(true);
+                    faceted.push(fine_flat[v as usize]);
+                    if let Some(&n) = next.get(v as usize) {
+                        next.push(n);
+                    }
+                    vertices.len() - 1
+                } else {
+                    claimed[v as usize] = true;
+                    faceted[v as usize] = fine_flat[v as usize];
+                    v as usize
+                };
+                let vertex = &mut vertices[slot];
+                if let (true, Some(n)) = (fine_flat[v as usize], fine_normal) {
+                    vertex.fine.normal = n.to_array();
+                }
+                if let (true, Some(n)) = (coarse_flat[v as usize], coarse_normal) {
+                    vertex.coarse.normal = n.to_array();
+                }
+                indices[3 * t + k] = slot as u32;
+            }
+        }
+    }
     let mut order: Vec<usize> = (0..materials.len()).collect();
     // Default material (None) first, then by index: a fixed order, so every level draws alike.
     order.sort_by_key(|&t| materials[t].map_or(0, |m| m + 1));
@@ -296,7 +389,7 @@ pub fn build_level(
         }
         sorted.extend_from_slice(&indices[3 * t..3 * t + 3]);
     }
-    LevelData { vertices, indices: sorted, ranges, error, next: Vec::new() }
+    LevelData { vertices, indices: sorted, ranges, error, next, faceted }
 }
 
 #[cfg(test)]
@@ -327,6 +420,7 @@ mod tests {
             colors: None,
             joints: &joints,
             weights: &weights,
+            flat: None,
         };
         let level = build_level(
             &attributes,
@@ -335,6 +429,7 @@ mod tests {
             &[0, 1, 2, 2, 1, 0, 1, 2, 0],
             &[Some(1), None, Some(1)],
             0.5,
+            &[],
         );
         assert_eq!(level.indices, [2, 1, 0, 0, 1, 2, 1, 2, 0]);
         assert_eq!(

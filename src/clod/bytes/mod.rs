@@ -107,7 +107,8 @@ pub fn encode(clod: &Clod) -> Vec<u8> {
     w.out.extend_from_slice(&MAGIC);
     w.u32(FORMAT_VERSION);
 
-    // The character: a built chain's first `n` entries of every per-id array are its mesh.
+    // The character: a built chain's first `n` entries of every per-id array are its mesh, and
+    // its base triangles are the simplifier's input.
     let mut input_indices = vec![0u32; pm.indices.len()];
     for (t, &source) in pm.triangle_source.iter().enumerate() {
         let s = 3 * source as usize;
@@ -259,7 +260,7 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
     if version != FORMAT_VERSION {
         return Err(ClodBytesError::UnsupportedVersion { found: version, supported: FORMAT_VERSION });
     }
-    check_character(&mut r, character)?;
+    let fingerprint = read_character(&mut r, character)?;
     let pose = read_pose(&mut r)?;
     let weights = match r.u32("weight rule")? {
         0 => WeightRule::Survivor,
@@ -271,6 +272,9 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
         ClodError::UnknownClip { name, .. } => ClodBytesError::UnknownClip { name },
         _ => ClodBytesError::NonFinite { field: "pose time", index: 0 },
     })?;
+    if fingerprint != character_fingerprint(character, &input) {
+        return Err(ClodBytesError::OtherCharacter);
+    }
     let mut pm = read_pm(&mut r, character, &input)?;
     if r.remaining() > 0 {
         return Err(ClodBytesError::TrailingBytes { count: r.remaining() });
@@ -285,9 +289,10 @@ pub fn decode(bytes: &[u8], character: &Character) -> Result<Clod> {
     Ok(clod)
 }
 
-/// Counts and fingerprint against the character; runs first, so the arrays sized by the vertex
+/// Vertex and triangle counts against the character, then the chain's fingerprint (compared in
+/// [`decode`] once the simplifier's input is known). Runs first, so the arrays sized by the vertex
 /// count below are bounded by the character, not by a number in the bytes.
-fn check_character(r: &mut Reader, character: &Character) -> Result<()> {
+fn read_character(r: &mut Reader, character: &Character) -> Result<u64> {
     let mesh = &character.mesh;
     let mismatch = |what, bytes: u32, character: usize| ClodBytesError::CharacterMismatch {
         what,
@@ -302,20 +307,23 @@ fn check_character(r: &mut Reader, character: &Character) -> Result<()> {
     if triangles as usize != mesh.triangle_count() {
         return Err(mismatch("triangles", triangles, mesh.triangle_count()));
     }
-    let ours = fingerprint(&MeshArrays {
+    r.u64("fingerprint")
+}
+
+/// The fingerprint [`encode`] writes for a chain of `character`: its mesh, with the triangles the
+/// simplifier saw (flat-shaded vertices welded).
+fn character_fingerprint(character: &Character, input: &PoseInput) -> u64 {
+    let mesh = &character.mesh;
+    fingerprint(&MeshArrays {
         positions: &mesh.positions,
         normals: &mesh.normals,
         uvs: mesh.uvs.as_deref(),
         colors: mesh.colors.as_deref(),
         joints: &mesh.joints,
         weights: &mesh.weights,
-        indices: &mesh.indices,
+        indices: &input.indices,
         morph: &mesh.morph,
-    });
-    if r.u64("fingerprint")? != ours {
-        return Err(ClodBytesError::OtherCharacter);
-    }
-    Ok(())
+    })
 }
 
 fn read_pose(r: &mut Reader) -> Result<SimplificationPose> {
@@ -384,13 +392,14 @@ fn read_pm(r: &mut Reader, character: &Character, input: &PoseInput) -> Result<P
         tag => return Err(ClodBytesError::UnknownTag { field: "stop reason", tag }),
     };
 
-    // Base triangles: the character's, in the order triangle_source gives.
+    // Base triangles: the simplifier's input (the character's, flat vertices welded), in the
+    // order triangle_source gives.
     let triangle_source = r.u32s("triangle_source")?;
     expect_len("triangle_source", triangle_source.len(), triangles)?;
     expect_permutation("triangle_source", &triangle_source, "an input triangle appears twice")?;
     let indices: Vec<u32> = triangle_source
         .iter()
-        .flat_map(|&s| mesh.indices[3 * s as usize..3 * s as usize + 3].iter().copied())
+        .flat_map(|&s| input.indices[3 * s as usize..3 * s as usize + 3].iter().copied())
         .collect();
 
     let mut vertex_slot = r.u32s("vertex_slot")?;

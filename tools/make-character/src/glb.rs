@@ -19,15 +19,15 @@ use crate::clips::{rest_locals, Clip, Interpolation, Track};
 use crate::regions::{Primitive, Region};
 
 /// Accumulates the binary chunk and the accessors that point into it.
-struct Builder {
-    root: json::Root,
-    bin: Vec<u8>,
+pub struct Builder {
+    pub root: json::Root,
+    pub bin: Vec<u8>,
 }
 
 impl Builder {
     /// Appends `bytes` as a new buffer view (4-byte aligned) and returns an accessor over it.
     #[allow(clippy::too_many_arguments)]
-    fn accessor(
+    pub fn accessor(
         &mut self,
         bytes: &[u8],
         count: usize,
@@ -70,7 +70,7 @@ impl Builder {
         })
     }
 
-    fn floats(
+    pub fn floats(
         &mut self,
         values: &[f32],
         per_item: usize,
@@ -83,7 +83,7 @@ impl Builder {
     }
 }
 
-fn flatten3(v: &[Vec3]) -> Vec<f32> {
+pub fn flatten3(v: &[Vec3]) -> Vec<f32> {
     v.iter().flat_map(|p| p.to_array()).collect()
 }
 

@@ -1,4 +1,6 @@
-//! `make-character`: generates the project's built-in character, `assets/character.glb`.
+//! `make-character`: generates the project's built-in character, `assets/character.glb`, and
+//! two more test characters chosen by the output file's name: `robot.glb` (a flat-shaded rigid
+//! robot with morph targets) and `parts.glb` (many open armour plates), see [`robot`].
 //!
 //! Pipeline: body design ([`body`]) → implicit field ([`field`]) → surface nets ([`mesher`]) →
 //! skin weights ([`skin`]) → material split, UVs and colours ([`regions`]) → clips ([`clips`]) →
@@ -21,6 +23,9 @@ mod math;
 mod mesher;
 mod regions;
 mod render;
+mod robot;
+mod robot_glb;
+mod shapes;
 mod skin;
 mod validate;
 
@@ -114,6 +119,17 @@ fn run() -> Result<(), String> {
     }
     let path =
         path.ok_or("usage: make-character [--check] [--render DIR] [--detail F] PATH/character.glb")?;
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+    if let Some(design) = match stem {
+        "robot" => Some(robot::robot as fn() -> robot::Design),
+        "parts" => Some(robot::parts as fn() -> robot::Design),
+        _ => None,
+    } {
+        let bytes = robot_glb::write(&design());
+        let report = validate::check_design(&bytes, stem == "robot")?;
+        println!("{report}");
+        return finish(&path, &bytes, check);
+    }
 
     let start = Instant::now();
     let bytes = generate(detail);
@@ -148,8 +164,13 @@ fn run() -> Result<(), String> {
         render_all(&loaded, &dir)?;
         println!("renders written to {}", dir.display());
     }
+    finish(&path, &bytes, check)
+}
+
+/// Writes `bytes` to `path`, or with `check` fails unless `path` holds exactly them.
+fn finish(path: &Path, bytes: &[u8], check: bool) -> Result<(), String> {
     if check {
-        let committed = std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let committed = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         if committed != bytes {
             return Err(format!(
                 "{} differs from the generator's output ({} committed bytes, {} generated); \
@@ -162,7 +183,7 @@ fn run() -> Result<(), String> {
         }
         println!("{} matches the generator", path.display());
     } else {
-        std::fs::write(&path, &bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         println!("wrote {}", path.display());
     }
     Ok(())

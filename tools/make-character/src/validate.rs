@@ -342,3 +342,95 @@ fn count_seam_vertices(loaded: &Loaded) -> usize {
     }
     count
 }
+
+/// Checks a robot or many-part character read back with the `gltf` crate: under 1 MB; every
+/// primitive rigidly skinned (weight 1 on one joint in range of its skin); the robot flat-shaded
+/// (every normal its triangle's face normal) with at least 19 primitives, two skins, 40–60 joints,
+/// morph targets with position and normal deltas on one mesh and clips animating their weights,
+/// every part closed once welded; the many-part character at least 40 primitives, each with an
+/// open border. Returns a one-paragraph report.
+///
+/// # Errors
+/// A message naming the first check that failed.
+pub fn check_design(bytes: &[u8], robot: bool) -> Result<String, String> {
+    if bytes.len() >= 1 << 20 {
+        return Err(format!("{} bytes, expected under 1 MB", bytes.len()));
+    }
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| format!("not a valid glTF: {e}"))?;
+    let blob = gltf.blob.as_deref().ok_or("GLB has no binary chunk")?;
+    let buffers = |_: gltf::Buffer| Some(blob);
+    let joints = gltf.nodes().filter(|n| n.mesh().is_none()).count();
+    let skins = gltf.skins().count();
+    let (mut primitives, mut triangles, mut targets, mut open, mut vertices) = (0, 0, 0, 0, 0);
+    for node in gltf.nodes().filter(|n| n.mesh().is_some()) {
+        let mesh = node.mesh().expect("filtered");
+        let skin = node.skin().ok_or(format!("mesh node {} has no skin", node.index()))?;
+        for prim in mesh.primitives() {
+            primitives += 1;
+            let r = prim.reader(buffers);
+            let positions: Vec<Vec3> = r.read_positions().ok_or("no POSITION")?.map(Vec3::from).collect();
+            let normals: Vec<Vec3> = r.read_normals().ok_or("no NORMAL")?.map(Vec3::from).collect();
+            let indices: Vec<u32> = r.read_indices().ok_or("no indices")?.into_u32().collect();
+            let weights: Vec<[f32; 4]> = r.read_weights(0).ok_or("no WEIGHTS_0")?.into_f32().collect();
+            let joint_sets: Vec<[u16; 4]> = r.read_joints(0).ok_or("no JOINTS_0")?.into_u16().collect();
+            vertices += positions.len();
+            triangles += indices.len() / 3;
+            if weights.iter().any(|w| *w != [1.0, 0.0, 0.0, 0.0])
+                || joint_sets.iter().any(|j| j[0] as usize >= skin.joints().count())
+            {
+                return Err(format!("mesh {:?}: a vertex is not rigidly bound to one joint", mesh.name()));
+            }
+            if robot {
+                for t in indices.chunks_exact(3) {
+                    let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+                    let face = (b - a).cross(c - a).normalize();
+                    if t.iter().any(|&v| normals[v as usize].dot(face) < 0.9999) {
+                        return Err(format!("mesh {:?}: triangle {t:?} is not flat-shaded", mesh.name()));
+                    }
+                }
+            }
+            let (welded, _) = weld_by_position(&positions, &indices);
+            let bad = bad_edges(&welded).len();
+            if robot && bad > 0 {
+                return Err(format!("mesh {:?}: a part is not closed ({bad} bad edges)", mesh.name()));
+            }
+            open += usize::from(bad > 0);
+            for target in r.read_morph_targets() {
+                let (p, n, _) = target;
+                let p: Vec<Vec3> = p.ok_or("a morph target has no POSITION")?.map(Vec3::from).collect();
+                let n = n.ok_or("a morph target has no NORMAL")?.count();
+                if p.len() != positions.len() || n != positions.len() || p.iter().any(|d| !d.is_finite()) {
+                    return Err("a morph target's deltas do not match its primitive".to_string());
+                }
+                targets += 1;
+            }
+        }
+    }
+    let weight_channels = gltf
+        .animations()
+        .flat_map(|a| a.channels().collect::<Vec<_>>())
+        .filter(|c| c.target().property() == gltf::animation::Property::MorphTargetWeights)
+        .count();
+    if robot {
+        if primitives < 19
+            || skins < 2
+            || !(40..=60).contains(&joints)
+            || targets == 0
+            || weight_channels == 0
+        {
+            return Err(format!(
+                "robot: {primitives} primitives, {skins} skins, {joints} joints, {targets} morph targets, \
+                 {weight_channels} weight channels; expected ≥ 19, ≥ 2, 40–60, some, some"
+            ));
+        }
+    } else if primitives < 40 || open < primitives {
+        return Err(format!("{primitives} primitives, {open} with open borders; expected ≥ 40, all open"));
+    }
+    Ok(format!(
+        "{} bytes: {primitives} primitives, {vertices} vertices, {triangles} triangles, {skins} skins, \
+         {joints} joints, {targets} morph targets (over all primitives), {} clips ({weight_channels} \
+         animating morph weights), {open} primitives with open borders",
+        bytes.len(),
+        gltf.animations().count()
+    ))
+}

@@ -1,0 +1,150 @@
+//! Flat shading: a faceted mesh simplifies along its faces (normal seams are not constraints), and
+//! the renderer's levels carry each triangle's face normal at both ends of a geomorph.
+
+use clod_viewer::clod::{self, shading::face_normal, ClodOptions, SimplificationPose};
+use clod_viewer::mesh::PrimitiveRange;
+use clod_viewer::render::lod_source::LodSource;
+use clod_viewer::skeleton::{Node, SkinJoint, Transform};
+use clod_viewer::{Character, Skeleton, SkinnedMesh};
+use glam::{Mat4, Vec3};
+
+/// A flat-shaded box `4 × 1 × 1` of unit facets: every face has its own vertices (the long faces
+/// 5 × 2 each, the end caps 4 each: 48 vertices), 36 triangles, normals the face normals, one
+/// joint.
+fn flat_box_strip() -> Character {
+    let mut mesh = SkinnedMesh::default();
+    // A face: origin, the long axis `u` (4 units, 4 facets) and the short axis `v` (1 unit).
+    let mut face = |origin: Vec3, u: Vec3, v: Vec3, segments: u32| {
+        let normal = u.cross(v).normalize();
+        let base = mesh.positions.len() as u32;
+        for i in 0..=segments {
+            for j in 0..2 {
+                mesh.positions.push(origin + u * (i as f32 / segments as f32) + v * j as f32);
+                mesh.normals.push(normal);
+            }
+        }
+        for i in 0..segments {
+            let (a, b, c, d) = (base + 2 * i, base + 2 * i + 2, base + 2 * i + 3, base + 2 * i + 1);
+            mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
+        }
+    };
+    let (x, y, z) = (Vec3::X * 4.0, Vec3::Y, Vec3::Z);
+    face(Vec3::Y, x, -y, 4); // z = 0, normal −z
+    face(Vec3::ZERO, x, z, 4); // y = 0, normal −y
+    face(Vec3::Y + Vec3::Z, x, -z, 4); // y = 1, normal +y
+    face(Vec3::Z, x, y, 4); // z = 1, normal +z
+    face(Vec3::ZERO, z, y, 1); // x = 0, normal −x
+    face(Vec3::X * 4.0, y, z, 1); // x = 4, normal +x
+    let n = mesh.positions.len();
+    mesh.joints = vec![[0; 4]; n];
+    mesh.weights = vec![[1.0, 0.0, 0.0, 0.0]; n];
+    mesh.primitives =
+        vec![PrimitiveRange { first_index: 0, index_count: mesh.indices.len() as u32, material: None }];
+    let rest = Transform { translation: Vec3::ZERO, rotation: glam::Quat::IDENTITY, scale: Vec3::ONE };
+    let skeleton = Skeleton {
+        nodes: vec![Node { name: "root".into(), parent: None, rest }],
+        joints: vec![SkinJoint { node: 0, joint_from_bind: Mat4::IDENTITY }],
+    };
+    Character {
+        mesh,
+        skeleton,
+        clips: Vec::new(),
+        materials: Vec::new(),
+        morph_targets: Vec::new(),
+        warnings: Vec::new(),
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn flat_box_strip_collapses_along_its_faces_to_its_corners() {
+    let character = flat_box_strip();
+    assert_eq!((character.mesh.vertex_count(), character.mesh.triangle_count()), (48, 36));
+    // Each normal really is its triangle's face normal (the fixture's winding is outward).
+    for t in character.mesh.indices.chunks_exact(3) {
+        let p = |k: usize| character.mesh.positions[t[k] as usize];
+        assert_eq!(face_normal(p(0), p(1), p(2)), Some(character.mesh.normals[t[0] as usize]));
+    }
+    let options = ClodOptions {
+        pose: SimplificationPose::Bind,
+        level_triangles: Some(vec![36, 12]),
+        ..ClodOptions::default()
+    };
+    let built = clod::build(&character, &options, &mut |_| {}).expect("the box simplifies");
+    assert_eq!(built.levels.len(), 2);
+    // The twelve vertices along the long edges cost nothing to remove (they lie on two planes'
+    // line); the eight corners stay: the coarse level is the box itself.
+    let coarse = &built.levels[1];
+    assert_eq!(coarse.triangle_count(), 12);
+    let mut corners: Vec<[i32; 3]> = coarse
+        .indices
+        .iter()
+        .map(|&v| {
+            built.apm.bind_positions[coarse.vertices[v as usize] as usize]
+                .to_array()
+                .map(|c| c.round() as i32)
+        })
+        .collect();
+    corners.sort();
+    corners.dedup();
+    let expected: Vec<[i32; 3]> = (0..8).map(|i| [4 * (i >> 2 & 1), i >> 1 & 1, i & 1]).collect::<Vec<_>>();
+    assert_eq!(corners, expected);
+    for &v in &coarse.vertices {
+        let p = built.apm.bind_positions[v as usize];
+        assert_eq!(p, p.round(), "vertex {v} left the corners: {p}");
+    }
+
+    // The renderer's levels: every corner carries its triangle's face normal, at both ends; the
+    // box keeps its planes, so a geomorph's ends agree.
+    let source = LodSource::from_clod(&character, &built);
+    for (i, level) in source.levels.iter().enumerate() {
+        for t in level.indices.chunks_exact(3) {
+            let fine = |k: usize| Vec3::from(level.vertices[t[k] as usize].fine.position);
+            let normal = face_normal(fine(0), fine(1), fine(2)).expect("no degenerate triangle").to_array();
+            for &v in t {
+                let vertex = &level.vertices[v as usize];
+                assert_eq!(vertex.fine.normal, normal, "level {i} vertex {v}");
+                assert_eq!(vertex.coarse.normal, normal, "level {i} vertex {v}: coarse end");
+                assert!(level.faceted[v as usize]);
+            }
+        }
+        // One vertex per corner: 3 per triangle.
+        assert_eq!(level.vertices.len(), level.indices.len(), "level {i}");
+    }
+    let skip = source.morph_vertices(0, 1).expect("two levels");
+    assert!(skip.iter().zip(&source.levels[0].vertices).all(|(a, b)| a.coarse.normal == b.coarse.normal));
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn smooth_and_uv_seams_are_not_welded() {
+    let mut character = flat_box_strip();
+    let materials = vec![0; character.mesh.triangle_count()];
+    let flat = clod::shading::ShadingWeld::new(&character.mesh, &materials);
+    // Every vertex is on a facet edge: all flat, welded to 20 positions (5 rings of 4).
+    assert!(flat.flat.iter().all(|&f| f));
+    let mut reps = flat.representative.clone();
+    reps.sort();
+    reps.dedup();
+    assert_eq!(reps.len(), 20);
+    // Normals bent away from the faces (smooth groups meeting at creases): nothing is flat.
+    let centre = Vec3::new(2.0, 0.5, 0.5);
+    let mesh = &mut character.mesh;
+    for (n, &p) in mesh.normals.iter_mut().zip(&mesh.positions) {
+        *n = (*n + 0.3 * (p - centre)).normalize();
+    }
+    let smooth = clod::shading::ShadingWeld::new(&character.mesh, &materials);
+    assert!(!smooth.any_flat());
+    // Flat again, but the face z = 0 (vertices 0..10) has its own uvs: its vertices weld with
+    // nothing (alone at their positions, so not flat either) and its border stays a seam: the 20
+    // welded positions plus its 10 vertices.
+    let mut flat_uv = flat_box_strip();
+    let uvs = (0..48).map(|v| glam::Vec2::new(if v < 10 { 0.5 } else { 0.0 }, 0.0)).collect();
+    flat_uv.mesh.uvs = Some(uvs);
+    let weld = clod::shading::ShadingWeld::new(&flat_uv.mesh, &materials);
+    let mut reps = weld.representative.clone();
+    reps.sort();
+    reps.dedup();
+    assert_eq!(reps.len(), 30);
+    assert!(!weld.flat[..10].iter().any(|&f| f));
+}
