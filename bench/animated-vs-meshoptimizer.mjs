@@ -2,7 +2,7 @@
 // triangle counts.
 //
 //   source scripts/tools.sh; build_wasm node && npm ci
-//   node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE]
+//   node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]
 //
 // For every model it has (the shared models CesiumMan, Fox, RiggedSimple and the project's
 // assets/character.glb, robot.glb, parts.glb), the counts are our default build's levels from level 1 on
@@ -11,8 +11,10 @@
 // `simplifyWithAttributes` (the unwelded mesh with its seams, normals and uv priced with weight 1 each: what a
 // gltf-transform user gets), each from the full mesh. Both keep a subset of the input vertices, so their
 // indices skinned with the full mesh's `skinnedPositions(clip, t)` are their animated levels; ours are
-// `levelSkinnedPositions(i, clip, t)`. Where a side stops short of a count, all three are compared at the
-// count all reached (ours rebuilt with those counts as its levels, meshoptimizer re-run).
+// `levelSkinnedPositions(i, clip, t)`. Where a side stops short of a count, the comparison moves to the count
+// ours and the meshoptimizer variant that went further both reached (ours rebuilt with those counts as its
+// levels, meshoptimizer re-run); a variant still short of it is shown but not taken as the better one, and a
+// model meshoptimizer cannot simplify at all is skipped with a line saying so.
 //
 // Error: symmetric sampled surface distance (seeded, same samples for all) against the full mesh skinned at
 // the same frame, in % of the bind-pose bounding-box diagonal; mean averaged over frames, Hausdorff the
@@ -90,8 +92,8 @@ function measureModel(name, bytes, { samples, frames, clips }) {
     const defaults = character.buildClod();
     const counts = Array.from({ length: defaults.levelCount - 1 }, (_, i) => defaults.level(i + 1).triangleCount);
     // Compared at the count ours and the meshoptimizer variant that went further both reached; the other
-    // variant is re-run there, and where it stops short of it (welded `simplify` often does: position welding
-    // makes non-manifold edges it will not collapse) it is shown but not taken as the better one.
+    // variant is re-run there, and where it stops short of it (welded `simplify` does on CesiumMan, Fox and
+    // RiggedSimple) it is shown but not taken as the better one.
     const rows = counts.map((n) => {
       let s = simplify(n), a = withAttributes(n);
       const common = Math.max(n, Math.min(s.length / 3, a.length / 3));
