@@ -145,6 +145,8 @@ for (const [name, bytes, path] of list) {
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
   const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
+  // The same build with batched collapse passes (`schedule: 'passes'`), for the ratio between the two.
+  const [, passesMs] = timeIt(() => character.buildClod({ levels: counts, schedule: 'passes' }).free());
   // Simplifying one static pose, as meshoptimizer does: our build without the multi-pose frames.
   const [, oursBindMs] = timeIt(() => character.buildClod({ levels: counts, pose: 'bind' }).free());
   const attributeLine = `meshoptimizer chain with normals and uv: simplifyWithAttributes ${withAttributesMs.toFixed(1)} ms, ` +
@@ -154,6 +156,8 @@ for (const [name, bytes, path] of list) {
     console.log(`${name}: ours ${oursMs.toFixed(1)} ms, meshoptimizer chain ${meshoptChainMs.toFixed(1)} ms: ` +
       `ratio ${(oursMs / meshoptChainMs).toFixed(2)}; ours native ${native[path].toFixed(1)} ms`);
     console.log(`  ${attributeLine}`);
+    console.log(`  ours with schedule 'passes' ${passesMs.toFixed(1)} ms: ratio passes/strict = ${(passesMs / oursMs).toFixed(2)}, ` +
+      `passes/chain = ${(passesMs / meshoptChainMs).toFixed(2)}, passes/update chain = ${(passesMs / withUpdateMs).toFixed(2)}`);
     character.free();
     continue;
   }

@@ -27,6 +27,8 @@
 //! simplification pose can give at best, roughly: for every measured frame, a build simplified in
 //! exactly that frame (at the same triangle counts), measured in that frame only. (Not a strict
 //! bound: greedy collapses in one pose can beat greedy collapses in another even in the latter.)
+//! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order (run
+//! with and without it to compare the two).
 //! `--pose NAME` (repeatable) replaces the three poses: `bind`, `multi`, `mid-clip`, `multi:N` (N
 //! frames per clip), or `CLIP@SECONDS`; other poses change the common triangle counts, so their
 //! numbers are not the bench's.
@@ -35,7 +37,12 @@ use clod_viewer::character::Character;
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import;
 use clod_viewer::metrics::{bounds_diagonal, surface_distance, SurfaceDistance};
+use clod_viewer::Schedule;
 use glam::Vec3;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// `--passes`: build with [`Schedule::Passes`].
+static PASSES: AtomicBool = AtomicBool::new(false);
 
 const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
 /// The bench's sample count for the bind-pose table (`SAMPLES`) and for animated error (`SAMPLES / 4`).
@@ -55,6 +62,7 @@ fn main() {
         match arg.as_str() {
             "--detail" => detail = true,
             "--oracle" => oracle = true,
+            "--passes" => PASSES.store(true, Ordering::Relaxed),
             "--pose" => {
                 let name = args.next().unwrap_or_default();
                 match parse_pose(&name) {
@@ -66,7 +74,7 @@ fn main() {
         }
     }
     if files.is_empty() {
-        fail("usage: animated_error [--detail] [--pose NAME]... FILE.glb...");
+        fail("usage: animated_error [--detail] [--passes] [--pose NAME]... FILE.glb...");
     }
     if poses.is_empty() {
         poses = ["bind", "multi", "mid-clip"].map(|p| (p.to_string(), parse_pose(p).unwrap())).to_vec();
@@ -102,8 +110,13 @@ fn parse_pose(name: &str) -> Option<SimplificationPose> {
 }
 
 fn build(character: &Character, pose: &SimplificationPose, levels: &[usize]) -> Clod {
-    let options =
-        ClodOptions { pose: pose.clone(), level_triangles: Some(levels.to_vec()), ..ClodOptions::default() };
+    let schedule = if PASSES.load(Ordering::Relaxed) { Schedule::Passes } else { Schedule::Strict };
+    let options = ClodOptions {
+        pose: pose.clone(),
+        level_triangles: Some(levels.to_vec()),
+        schedule,
+        ..ClodOptions::default()
+    };
     clod::build(character, &options, &mut |_| {}).unwrap_or_else(|e| fail(&format!("build: {e}")))
 }
 

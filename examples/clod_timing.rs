@@ -6,19 +6,24 @@
 //! bench/lod-vs-meshoptimizer.mjs (50/25/10/5/1 %); `phases` splits that best build at the
 //! build's progress reports: poses (set-up and multi-pose quadrics), simplify (collapses and
 //! progressive mesh), back-propagation, and chain (levels, Tipsify, ancestor tables).
+//! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order.
 
 use std::time::Instant;
 
 use clod_viewer::clod::{self, ClodOptions};
 use clod_viewer::import;
+use clod_viewer::Schedule;
 
 const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
 const PHASE_MARKS: [f32; 5] = [0.0, 0.15, 0.8, 0.9, 1.0];
 
 fn main() {
-    let files: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let passes = args.iter().any(|a| a == "--passes");
+    let schedule = if passes { Schedule::Passes } else { Schedule::Strict };
+    let files: Vec<String> = args.into_iter().filter(|a| a != "--passes").collect();
     if files.is_empty() {
-        eprintln!("usage: clod_timing FILE.glb...");
+        eprintln!("usage: clod_timing [--passes] FILE.glb...");
         std::process::exit(2);
     }
     for file in files {
@@ -34,7 +39,7 @@ fn main() {
         };
         let n = character.mesh.triangle_count();
         let levels = FRACTIONS.iter().map(|f| ((n as f64 * f).round() as usize).max(1)).collect();
-        let options = ClodOptions { level_triangles: Some(levels), ..ClodOptions::default() };
+        let options = ClodOptions { level_triangles: Some(levels), schedule, ..ClodOptions::default() };
         let mut best = f64::INFINITY;
         let mut best_phases = Vec::new();
         let budget = Instant::now();

@@ -11,7 +11,7 @@ use wasm_bindgen::prelude::*;
 use crate::character::Character as CoreCharacter;
 use crate::clod::{self, ClodOptions, SimplificationPose, WeightRule};
 use crate::import;
-use crate::simplify::CollapseMode;
+use crate::simplify::{CollapseMode, Schedule};
 
 /// Installs the panic hook that prints Rust panics to the console (called once on load).
 #[wasm_bindgen(start)]
@@ -154,6 +154,8 @@ impl Character {
     /// `'mid-clip'` (the middle of the first clip), `'bind'` or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
     /// `weights`: `'survivor'` (default) or `'blend'` for the skin weights of new vertices;
+    /// `schedule`: `'strict'` (default: always the cheapest collapse next) or `'passes'` (batched
+    /// collapse passes, faster, see `Schedule`);
     /// `maxError`: the floor, stop before a collapse whose error exceeds this fraction of the
     /// bounding-box diagonal (default 0.05; `Infinity` goes as far as the topology allows);
     /// `onProgress(fraction)`: called with fractions from 0 to 1.
@@ -387,6 +389,12 @@ fn parse_clod_options(
         Some("survivor") => out.weights = WeightRule::Survivor,
         Some("blend") => out.weights = WeightRule::Blend,
         _ => return Err(JsError::new("weights must be 'survivor' or 'blend'")),
+    }
+    match get("schedule").as_string().as_deref() {
+        None if get("schedule").is_undefined() => {}
+        Some("strict") => out.schedule = Schedule::Strict,
+        Some("passes") => out.schedule = Schedule::Passes,
+        _ => return Err(JsError::new("schedule must be 'strict' or 'passes'")),
     }
     let max_error = get("maxError");
     if !max_error.is_undefined() {

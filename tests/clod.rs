@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose};
 use clod_viewer::metrics::bounds_diagonal;
-use clod_viewer::simplify::{CollapseMode, StopReason};
+use clod_viewer::simplify::{CollapseMode, Schedule, StopReason};
 use clod_viewer::{import, Character};
 
 const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
@@ -187,21 +187,31 @@ fn every_level_animates_with_every_clip() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn the_floor_stops_before_a_collapse_costlier_than_the_max_error() {
     let Some(character) = load("Fox.glb") else { return };
-    let levels = Some(vec![400, 20]);
-    let floored = build(&character, &ClodOptions { level_triangles: levels.clone(), ..Default::default() });
-    let unbounded = build(
-        &character,
-        &ClodOptions { level_triangles: levels, max_error: f32::INFINITY, ..Default::default() },
-    );
-    let limit = (clod::DEFAULT_MAX_ERROR * bounds_diagonal(&character.mesh.positions)).powi(2);
-    let (pm, all) = (&floored.apm.pm, &unbounded.apm.pm);
-    assert_eq!(pm.stop, StopReason::MaxErrorReached);
-    assert!(pm.collapses.iter().all(|c| c.cost <= limit));
-    // The same collapses up to the floor, then the first one over it.
-    assert!(all.collapses.len() > pm.collapses.len());
-    assert_eq!(all.collapses[..pm.collapses.len()], pm.collapses[..]);
-    assert!(all.collapses[pm.collapses.len()].cost > limit);
-    check_chain("Fox floored", &floored);
+    for schedule in [Schedule::Passes, Schedule::Strict] {
+        let levels = Some(vec![400, 20]);
+        let floored = build(
+            &character,
+            &ClodOptions { level_triangles: levels.clone(), schedule, ..Default::default() },
+        );
+        let unbounded = build(
+            &character,
+            &ClodOptions {
+                level_triangles: levels,
+                max_error: f32::INFINITY,
+                schedule,
+                ..Default::default()
+            },
+        );
+        let limit = (clod::DEFAULT_MAX_ERROR * bounds_diagonal(&character.mesh.positions)).powi(2);
+        let (pm, all) = (&floored.apm.pm, &unbounded.apm.pm);
+        assert_eq!(pm.stop, StopReason::MaxErrorReached, "{schedule:?}");
+        assert!(pm.collapses.iter().all(|c| c.cost <= limit), "{schedule:?}");
+        // The same collapses up to the floor, then the first one over it.
+        assert!(all.collapses.len() > pm.collapses.len(), "{schedule:?}");
+        assert_eq!(all.collapses[..pm.collapses.len()], pm.collapses[..], "{schedule:?}");
+        assert!(all.collapses[pm.collapses.len()].cost > limit, "{schedule:?}");
+        check_chain(&format!("Fox floored {schedule:?}"), &floored);
+    }
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -4,7 +4,7 @@
 mod common;
 mod meshgen;
 
-use clod_viewer::simplify::{CollapseMode, SimplifyOptions, StopReason};
+use clod_viewer::simplify::{CollapseMode, Schedule, SimplifyOptions, StopReason};
 use glam::Vec3;
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, torus, Mesh, Rng};
 
@@ -172,14 +172,19 @@ fn real_models_keep_every_invariant() {
                 mesh.materials[t] = p as u32;
             }
         }
-        for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
-            let pm = mesh.simplify(&mode_options(mode));
+        let runs = [
+            (CollapseMode::Full, Schedule::Passes),
+            (CollapseMode::HalfEdge, Schedule::Passes),
+            (CollapseMode::Full, Schedule::Strict),
+        ];
+        for (mode, schedule) in runs {
+            let pm = mesh.simplify(&SimplifyOptions { schedule, ..mode_options(mode) });
             let k = pm.collapse_count();
-            assert!(k > 0, "{name} {mode:?}: nothing simplified");
+            assert!(k > 0, "{name} {mode:?} {schedule:?}: nothing simplified");
             check_invariants(&mesh, &pm, &spread_levels(&pm, 8), false);
             check_cursor(&pm, &shuffled_levels(&pm, 8, 3));
             println!(
-                "{name} {mode:?}: {} -> {} triangles ({:?})",
+                "{name} {mode:?} {schedule:?}: {} -> {} triangles ({:?})",
                 m.indices.len() / 3,
                 pm.triangle_count_after(k),
                 pm.stop

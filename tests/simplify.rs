@@ -2,7 +2,9 @@
 
 mod meshgen;
 
-use clod_viewer::simplify::{simplify, CollapseMode, Quadric, SimplifyError, SimplifyOptions, StopReason};
+use clod_viewer::simplify::{
+    simplify, CollapseMode, Quadric, Schedule, SimplifyError, SimplifyOptions, StopReason,
+};
 use glam::{DVec3, Vec3};
 use meshgen::{check_cursor, check_invariants, grid, Mesh};
 use std::collections::HashSet;
@@ -387,18 +389,24 @@ fn caller_quadrics_equal_to_the_default_give_the_same_result() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn max_error_and_target_stop_early() {
     let mesh = meshgen::torus(20, 14, 0.02, 11);
-    let full = mesh.simplify(&SimplifyOptions::default());
-    let k_mid = full.collapse_count() / 2;
-    let limit = full.collapses[k_mid].cost;
-    let limited = mesh.simplify(&SimplifyOptions { max_error: limit, ..SimplifyOptions::default() });
-    assert_eq!(limited.stop, StopReason::MaxErrorReached);
-    assert!(limited.collapses.iter().all(|c| c.cost <= limit));
-    // The same prefix of the same total order.
-    assert_eq!(limited.collapses[..], full.collapses[..limited.collapse_count()]);
-    let targeted = mesh.simplify(&options(CollapseMode::Full, 100));
-    assert_eq!(targeted.stop, StopReason::TargetReached);
-    assert!(targeted.triangle_count_after(targeted.collapse_count()) <= 100);
-    assert!(targeted.triangle_count_after(targeted.collapse_count() - 1) > 100);
+    // Both orders: the pass schedule ignores the target and the limit, so it holds for passes too.
+    for schedule in [Schedule::Passes, Schedule::Strict] {
+        let with = |options: SimplifyOptions| mesh.simplify(&SimplifyOptions { schedule, ..options });
+        let full = with(SimplifyOptions::default());
+        let k_mid = full.collapse_count() / 2;
+        let limit = full.collapses[k_mid].cost;
+        let limited = with(SimplifyOptions { max_error: limit, ..SimplifyOptions::default() });
+        assert_eq!(limited.stop, StopReason::MaxErrorReached, "{schedule:?}");
+        assert!(limited.collapses.iter().all(|c| c.cost <= limit), "{schedule:?}");
+        // The same prefix of the same order, stopped at the first collapse over the limit.
+        assert_eq!(limited.collapses[..], full.collapses[..limited.collapse_count()], "{schedule:?}");
+        assert!(full.collapses[limited.collapse_count()].cost > limit, "{schedule:?}");
+        let targeted = with(options(CollapseMode::Full, 100));
+        assert_eq!(targeted.stop, StopReason::TargetReached, "{schedule:?}");
+        assert!(targeted.triangle_count_after(targeted.collapse_count()) <= 100);
+        assert!(targeted.triangle_count_after(targeted.collapse_count() - 1) > 100);
+        assert_eq!(targeted.collapses[..], full.collapses[..targeted.collapse_count()], "{schedule:?}");
+    }
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -28,7 +28,7 @@ use thiserror::Error;
 use crate::character::Character;
 use crate::morph::MorphDeltas;
 use crate::progressive::ProgressiveMesh;
-use crate::simplify::{self, CollapseMode, Quadric, SimplifyError, SimplifyInput, SimplifyOptions};
+use crate::simplify::{self, CollapseMode, Quadric, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
 use crate::skinning;
 pub use chain::LodLevel;
 pub use poses::SimplificationPose;
@@ -49,6 +49,8 @@ pub struct ClodOptions {
     /// diagonal. [`DEFAULT_MAX_ERROR`] by default; `f32::INFINITY` simplifies as far as the
     /// topology allows.
     pub max_error: f32,
+    /// The order of collapses: strictly cheapest first (the default) or batched passes.
+    pub schedule: Schedule,
 }
 
 /// Default [`ClodOptions::max_error`]: 5 % of the diagonal. Near the end of a simplification the
@@ -81,6 +83,7 @@ impl Default for ClodOptions {
             mode: CollapseMode::Full,
             weights: WeightRule::default(),
             max_error: DEFAULT_MAX_ERROR,
+            schedule: Schedule::Strict,
         }
     }
 }
@@ -221,6 +224,7 @@ pub fn build(
         normal_channel: Some(0),
         // Costs are mean squared errors in position units².
         max_error: (options.max_error * crate::metrics::bounds_diagonal(&input.positions)).powi(2),
+        schedule: options.schedule,
     };
     let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {
         progress(0.15 + 0.65 * f)

@@ -9,9 +9,9 @@
 //!    duplicates are priced once), and `vertex_quadrics` builds the initial quadrics:
 //!    area-weighted face planes (Garland & Heckbert 1997) or the caller's, penalty planes along
 //!    constraint edges, and Hoppe's (1999) attribute quadrics per wedge;
-//! 4. `collapse` collapses position edges in strict order of cost from a 4-ary heap with lazy
-//!    invalidation, rejecting collapses that break the link condition, tear seams, merge
-//!    constraint lines, or fold triangles;
+//! 4. `collapse` collapses position edges strictly cheapest first from a heap (or, as an option,
+//!    in batched passes of rising cost: [`Schedule`]), rejecting collapses that break the link
+//!    condition, tear seams, merge constraint lines, or fold triangles;
 //! 5. [`crate::progressive`] turns the collapse log into a [`ProgressiveMesh`] (Hoppe 1996): a
 //!    collapse forest over vertex ids with a prefix order on triangles and vertex slots.
 //!
@@ -67,6 +67,22 @@ pub enum CollapseMode {
     HalfEdge,
 }
 
+/// The order in which collapses are chosen. Both are deterministic, and a run stopped by the
+/// target or the error limit is a prefix of the unlimited run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Schedule {
+    /// Always the cheapest valid collapse next, from a heap with lazy invalidation.
+    #[default]
+    Strict,
+    /// Batched passes (meshoptimizer's scheme): each pass commits the candidates up to 1.5× its
+    /// k-th cheapest cost, in cost order, with the ends of every collapse locked until the pass
+    /// ends, then re-prices the changed edges in bulk. Collapse costs are not monotone (their
+    /// running maximum is). Measured against `Strict`: the native build 10–25 % faster on the
+    /// built-in character, but animated error 15 % higher on CesiumMan and the character's 1 %
+    /// level 12 % worse in the bind pose, so it is not the default.
+    Passes,
+}
+
 /// Parameters of [`simplify`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimplifyOptions {
@@ -79,6 +95,8 @@ pub struct SimplifyOptions {
     pub max_error: f32,
     /// First of three attribute channels holding a normal, renormalised after interpolation.
     pub normal_channel: Option<usize>,
+    /// The order of collapses. Default value: [`Schedule::Strict`].
+    pub schedule: Schedule,
 }
 
 impl Default for SimplifyOptions {
@@ -88,6 +106,7 @@ impl Default for SimplifyOptions {
             target_triangles: 0,
             max_error: f32::INFINITY,
             normal_channel: None,
+            schedule: Schedule::Strict,
         }
     }
 }
@@ -137,8 +156,8 @@ pub enum SimplifyError {
 ///
 /// The result can be rebuilt at any number of collapses (see [`ProgressiveMesh`]); refining it
 /// fully gives back the input triangles. Unreferenced vertices stay in the vertex list but take
-/// part in nothing. The result is deterministic: the collapse order is a total order on
-/// (cost, vertex ids).
+/// part in nothing. The result is deterministic: every choice of the collapse order follows a
+/// total order on (cost, vertex ids) and thresholds taken from the mesh state (see [`Schedule`]).
 ///
 /// # Errors
 /// Any [`SimplifyError`]: inconsistent array lengths, out-of-range indices, non-finite values,

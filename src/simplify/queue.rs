@@ -29,6 +29,11 @@ impl Candidate {
         self.key as u32
     }
 
+    /// The total order of candidates: (cost, u, v).
+    pub fn order(&self) -> (u64, u32) {
+        (self.key, self.v)
+    }
+
     #[inline]
     fn before(&self, other: &Candidate) -> bool {
         (self.key, self.v) < (other.key, other.v)

@@ -64,6 +64,17 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   assert.throws(() => fox.buildClod({ onProgress: 3 }), /onProgress/);
   assert.throws(() => fox.buildClod({ maxError: 0 }), /maxError/);
   assert.throws(() => fox.buildClod({ maxError: 'low' }), /maxError/);
+  assert.throws(() => fox.buildClod({ schedule: 'fast' }), /schedule must be/);
+  // The strict order is the default; batched passes give a valid chain of the same levels.
+  const strict = fox.buildClod({ levels: [400, 200, 100], schedule: 'strict' });
+  const passes = fox.buildClod({ levels: [400, 200, 100], schedule: 'passes' });
+  const plain = fox.buildClod({ levels: [400, 200, 100] });
+  for (let i = 0; i < 3; i++) {
+    assert.deepEqual(plain.level(i), strict.level(i));
+    assert.ok(passes.level(i).triangleCount <= [400, 200, 100][i]);
+    assert.ok(i === 0 || passes.level(i).error >= passes.level(i - 1).error);
+  }
+  for (const c of [strict, passes, plain]) c.free();
   // The default floor (5 % of the diagonal) keeps Fox's legs; without it the simplifier goes on.
   const floored = fox.buildClod({ levels: [400, 20] });
   const unbounded = fox.buildClod({ levels: [400, 20], maxError: Infinity });

@@ -1,32 +1,44 @@
-//! The collapse engine: quadric set-up, a strict priority queue of position-edge collapses, the
-//! validity checks (`checks.rs`), and the collapse itself, which appends to a [`CollapseLog`].
+//! The collapse engine: quadric set-up, the order of position-edge collapses, the validity checks
+//! (`checks.rs`), and the collapse itself, which appends to a [`CollapseLog`].
 //!
 //! A collapse `u → v` removes position class `u`; every wedge of `u` merges with the wedge of `v`
 //! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
 //! along it), so seams stay closed. Placement ([`Placement`]): interior–interior edges get the
 //! quadric minimiser, line–line edges (along a border, seam or material line) the best point of
 //! the edge, everything else (corners, locked vertices, and every half-edge collapse) keeps `v`'s
-//! position.
+//! position. Planning and f64 pricing are in `plan.rs`.
 //!
-//! The queue (`queue.rs`) is a heap keyed by (cost, u, v) — a total order, so the collapse
-//! sequence is deterministic — with lazy invalidation by per-class version counters. A collapse that fails a
+//! Two orders ([`Schedule`]), both deterministic (every choice follows a total order on
+//! (cost, u, v) and thresholds derived from the mesh state alone, never from the target or the
+//! error limit, so a limited run is a prefix of an unlimited one):
+//! * `strict.rs` (the default): one collapse at a time from a heap (`queue.rs`), always the
+//!   cheapest;
+//! * `passes.rs` (opt-in): batched passes in meshoptimizer's style — rank the priced
+//!   candidates, commit the cheap ones in cost order with both ends locked for the rest of the
+//!   pass, then re-price the edges the pass changed in bulk, in class order.
+//!
+//! Candidates are invalidated lazily by per-class version counters. A collapse that fails a
 //! check marks both ends *parked* and remembers the edge at both; when a later collapse changes a
-//! parked class's neighbourhood, its failed edges are queued again (its other entries are still
+//! parked class's neighbourhood, its failed edges are priced again (its other entries are still
 //! exact and stay).
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod apply;
 mod checks;
+mod passes;
+mod plan;
+mod strict;
 
 use super::channels::Channels;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
 use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
-use super::{CollapseMode, SimplifyInput, SimplifyOptions, StopReason};
-use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
-use glam::{DVec3, Vec3};
+use super::{CollapseMode, Schedule, SimplifyInput, SimplifyOptions, StopReason};
+use crate::progressive::CollapseLog;
+use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Placement {
@@ -62,9 +74,37 @@ pub(crate) fn run(
 ) -> CollapseLog {
     let mut engine = Engine::new(input, options);
     engine.queue_all_edges();
-    let stop = engine.collapse_until(options.target_triangles, options.max_error, progress);
+    let (target, max_error) = (options.target_triangles, options.max_error);
+    let stop = match options.schedule {
+        Schedule::Passes => engine.collapse_in_passes(target, max_error, progress),
+        Schedule::Strict => engine.collapse_until(target, max_error, progress),
+    };
     engine.log.stop = stop;
     engine.log
+}
+
+/// Reports progress at most [`PROGRESS_STEPS`] times as the live triangle count falls towards the
+/// target.
+struct Progress {
+    start: usize,
+    span: usize,
+    step: usize,
+    next_report: usize,
+}
+
+impl Progress {
+    fn new(start: usize, target: usize) -> Progress {
+        let span = start.saturating_sub(target).max(1);
+        let step = span.div_ceil(PROGRESS_STEPS).max(1);
+        Progress { start, span, step, next_report: start.saturating_sub(step) }
+    }
+
+    fn update(&mut self, live_triangles: usize, progress: &mut dyn FnMut(f32)) {
+        if live_triangles <= self.next_report {
+            progress((self.start - live_triangles) as f32 / self.span as f32);
+            self.next_report = self.next_report.saturating_sub(self.step);
+        }
+    }
 }
 
 /// Low 16 bits of both versions.
@@ -108,10 +148,18 @@ struct Engine<'a> {
     failed_head: Vec<u32>,
     /// Failed-edge records: (partner class, next record or NONE).
     failed: Vec<(u32, u32)>,
-    // Queue.
+    // Order.
+    schedule: Schedule,
+    /// The heap of [`Schedule::Strict`].
     queue: Queue,
     /// Queue length after the last purge of stale entries.
     purged_length: usize,
+    /// The priced candidates of [`Schedule::Passes`], in no particular order between passes.
+    candidates: Vec<Candidate>,
+    /// Edges (lower class first) to price at the end of the pass.
+    pending: Vec<(u32, u32)>,
+    /// Scratch of the pass threshold: the candidates' cost bits.
+    keys: Vec<u32>,
     // Scratch (reused, never reallocated once grown).
     mark: Vec<u32>,
     stamp: u32,
@@ -188,8 +236,12 @@ impl<'a> Engine<'a> {
             version: vec![0; class_count],
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
+            schedule: options.schedule,
             queue: Queue::default(),
             purged_length: 0,
+            candidates: Vec::new(),
+            pending: Vec::new(),
+            keys: Vec::new(),
             mark: vec![0; class_count],
             stamp: 0,
             u_pair: Vec::new(),
@@ -266,8 +318,11 @@ impl<'a> Engine<'a> {
                 (u, v)
             }
         };
-        let stamp = self.stamp_of(u, v);
-        self.queue.push(Candidate::new(plan.cost as f32, u, v, stamp));
+        let candidate = Candidate::new(plan.cost as f32, u, v, self.stamp_of(u, v));
+        match self.schedule {
+            Schedule::Passes => self.candidates.push(candidate),
+            Schedule::Strict => self.queue.push(candidate),
+        }
     }
 
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
@@ -284,415 +339,12 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// Pops collapses in order until the target, the error limit or the end of the queue.
-    fn collapse_until(&mut self, target: usize, max_error: f32, progress: &mut dyn FnMut(f32)) -> StopReason {
-        let start = self.live_triangles;
-        let span = start.saturating_sub(target).max(1);
-        let step = span.div_ceil(PROGRESS_STEPS).max(1);
-        let mut next_report = start.saturating_sub(step);
-        loop {
-            if self.live_triangles <= next_report {
-                progress((start - self.live_triangles) as f32 / span as f32);
-                next_report = next_report.saturating_sub(step);
-            }
-            if target > 0 && self.live_triangles <= target {
-                return StopReason::TargetReached;
-            }
-            // Stale entries pile up (several per collapse). Dropping them in one linear pass
-            // costs a few ns each, popping them one by one a cache-missing sift each: purge
-            // whenever the queue has grown by a quarter since the last purge (amortised O(1) per
-            // push). Measured on the built-in character (cachegrind), growth of 2× left 9 of 10
-            // pops stale; a quarter leaves 1 in 2 and saves more sifting than the purges cost.
-            if self.queue.len() > self.purged_length.max(2048) * 5 / 4 {
-                let (alive, version) = (&self.alive, &self.version);
-                self.queue.purge(|c| {
-                    let (u, v) = (c.u() as usize, c.v as usize);
-                    alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
-                });
-                self.purged_length = self.queue.len();
-            }
-            let Some(entry) = self.queue.pop() else {
-                return StopReason::NoValidCollapse;
-            };
-            let (u, v) = (entry.u(), entry.v);
-            let (ui, vi) = (u as usize, v as usize);
-            if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
-                continue;
-            }
-            if entry.cost() > max_error {
-                return StopReason::MaxErrorReached;
-            }
-            // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
-            // which a current entry reproduces exactly.
-            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
-                continue;
-            };
-            if !self.check(&plan) {
-                self.park(u, v);
-                self.park(v, u);
-                continue;
-            }
-            self.apply(&plan);
+    /// Prices edge `a`–`b` again after a collapse changed it: at once in the strict order, at
+    /// the end of the pass otherwise (in bulk, sorted, so the pricings walk memory in order).
+    fn requeue(&mut self, a: u32, b: u32) {
+        match self.schedule {
+            Schedule::Strict => self.queue_edge(a, b),
+            Schedule::Passes => self.pending.push((a.min(b), a.max(b))),
         }
-    }
-
-    /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
-    /// kinds forbid it, the classes no longer share an edge, or the pairing would tear a seam.
-    ///
-    /// Leaves the pairing in `u_pair` (per wedge of `u`: index into `v`'s wedges), `u_seen` (the
-    /// wedge is used by a live triangle) and `v_partner` (per wedge of `v`: index into `u`'s
-    /// wedges or NONE) for [`Engine::apply`].
-    fn plan(&mut self, u: u32, v: u32) -> Option<Plan> {
-        let (ui, vi) = (u as usize, v as usize);
-        if u == v || !self.alive[ui] || !self.alive[vi] || self.kind[ui] == Kind::Locked {
-            return None;
-        }
-        let u_wedges = self.classes.wedges_of(u);
-        let v_wedges = self.classes.wedges_of(v);
-        self.u_pair.clear();
-        self.u_pair.resize(u_wedges.len(), NONE);
-        self.u_seen.clear();
-        self.u_seen.resize(u_wedges.len(), false);
-        let ku = self.kind[ui];
-        let kv = self.kind[vi];
-        if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
-            // The common case needs no scan: one wedge each pairs trivially, and an interior u
-            // has no line to stay on. Whether the edge still exists is checked before applying.
-            self.u_pair[0] = 0;
-            self.u_seen[0] = true;
-            self.v_partner.clear();
-            self.v_partner.push(0);
-            return self.price(u, v, ku, kv);
-        }
-        let mut edge_triangles = 0;
-        let mut first_side = (NONE, NONE, NONE);
-        let mut constraint = false;
-        for corner in self.lists.iter(u) {
-            let wu = self.corner_wedge[corner as usize];
-            let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
-            self.u_seen[iu] = true;
-            let (n, p) = other_corners(corner);
-            let class_of = |k: u32| self.classes.class_of[self.corner_wedge[k as usize] as usize];
-            let v_corner = if class_of(n) == v {
-                n
-            } else if class_of(p) == v {
-                p
-            } else {
-                continue;
-            };
-            edge_triangles += 1;
-            let wv = self.corner_wedge[v_corner as usize];
-            let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
-            if self.u_pair[iu] == NONE {
-                self.u_pair[iu] = iv;
-            } else if self.u_pair[iu] != iv {
-                return None; // one wedge of u would have to follow two wedges of v
-            }
-            let material = self.materials.get(corner as usize / 3).copied().unwrap_or(0);
-            if edge_triangles == 1 {
-                first_side = (wu, wv, material);
-            } else if first_side != (wu, wv, material) {
-                constraint = true;
-            }
-        }
-        if edge_triangles == 0 || edge_triangles > 2 {
-            return None;
-        }
-        constraint |= edge_triangles == 1;
-        if ku.on_line() && !constraint {
-            return None; // a line vertex only slides along its line
-        }
-        // A junction may go along any edge: the pairing below admits it only when every wedge it
-        // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
-        // ends there) but never merge the two sides of a seam.
-        // Every used wedge of u needs its own wedge of v: no seam opens or closes.
-        self.v_partner.clear();
-        self.v_partner.resize(v_wedges.len(), NONE);
-        for iu in 0..u_wedges.len() {
-            if !self.u_seen[iu] {
-                continue;
-            }
-            let iv = self.u_pair[iu];
-            if iv == NONE || self.v_partner[iv as usize] != NONE {
-                return None;
-            }
-            self.v_partner[iv as usize] = iu as u32;
-        }
-        self.price(u, v, ku, kv)
-    }
-
-    /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made.
-    fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind) -> Option<Plan> {
-        let (ui, vi) = (u as usize, v as usize);
-        let u_wedges = self.classes.wedges_of(u);
-        let v_wedges = self.classes.wedges_of(v);
-
-        let placement = match (self.mode, ku, kv) {
-            (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
-            (CollapseMode::Full, Kind::Line, Kind::Line) => Placement::Segment,
-            _ => Placement::Fixed,
-        };
-        let mut total = self.total[ui];
-        total += &self.total[vi];
-        let stride = self.priced.stride();
-        let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
-        for (iv, &wv) in v_wedges.iter().enumerate() {
-            let partner = self.v_partner[iv];
-            let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
-            // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
-            // attributes; an unmerged wedge keeps its own unless it moves.
-            let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
-            // Per channel `(Σ area·w·g, Σ area·w·d)` of the merged pair (or the lone wedge), and
-            // the pair's area `α`.
-            let sv = sums_of(wv);
-            let su = if wu == NONE { &self.zero_sums[..] } else { sums_of(wu) };
-            let alpha = sv[0] + su[0];
-            let channels = sv[1..]
-                .chunks_exact(4)
-                .zip(su[1..].chunks_exact(4))
-                .map(|(v, u)| (DVec3::new(v[0] + u[0], v[1] + u[1], v[2] + u[2]), v[3] + u[3]));
-            if optimal {
-                if !(alpha > 0.0) {
-                    continue;
-                }
-                // One division per wedge: 1 / (α w_j) = (1 / α) · (1 / w_j).
-                let inverse_alpha = 1.0 / alpha;
-                let mut optimum = Quadric::ZERO;
-                for ((g, d), &inverse_weight) in channels.zip(&self.inverse_weights) {
-                    optimum.add_optimal_attribute(g, d, inverse_alpha * inverse_weight);
-                }
-                total.subtract(&optimum);
-            } else {
-                let own =
-                    &self.wedge_attributes[wv as usize * self.channels..(wv as usize + 1) * self.channels];
-                for ((g, d), &(j, w)) in channels.zip(&self.priced.priced) {
-                    total.add_fixed_attribute(g, d, alpha * w as f64, own[j] as f64);
-                }
-            }
-        }
-        // Canonical order for the symmetric placements, so both directions agree bit for bit.
-        let (lo, hi) = (self.position[u.min(v) as usize], self.position[u.max(v) as usize]);
-        let p = match placement {
-            Placement::Fixed => self.position[vi],
-            Placement::Segment => total.minimize_on_segment(lo, hi),
-            Placement::Free => match total.minimize() {
-                // Beyond one edge length from the midpoint the minimiser has left the
-                // neighbourhood: the quadric is nearly flat there and only extrapolates.
-                Some(p) if (p - 0.5 * (lo + hi)).length() <= (hi - lo).length() => p,
-                _ => total.minimize_on_segment(lo, hi),
-            },
-        };
-        // The stored position is f32: price and check exactly the point that will be output.
-        let p = p.as_vec3().as_dvec3();
-        let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
-        let cost = total.error(p).max(0.0) / weight;
-        cost.is_finite().then_some(Plan { u, v, p, cost, placement })
-    }
-
-    /// Performs a planned (and checked) collapse; `plan` must be the latest [`Engine::plan`]
-    /// call, whose pairing scratch it uses.
-    fn apply(&mut self, plan: &Plan) {
-        let (u, v, p) = (plan.u, plan.v, plan.p);
-        let (ui, vi) = (u as usize, v as usize);
-        let step = self.log.steps.len() as u32 + 1;
-        let m = self.channels;
-        let stride = self.priced.stride();
-        let moved = p != self.position[vi];
-        let first_new = self.log.positions.len() as u32;
-        let u_range = self.classes.wedge_start[ui] as usize..self.classes.wedge_start[ui + 1] as usize;
-        let v_range = self.classes.wedge_start[vi] as usize..self.classes.wedge_start[vi + 1] as usize;
-
-        // New vertices: one per merged wedge pair, and one per unmerged wedge of v that moves.
-        let pv = self.position[vi];
-        let pu = self.position[ui];
-        let edge = pu - pv;
-        let t = if edge.length_squared() > 0.0 {
-            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        for (iv, k) in v_range.clone().enumerate() {
-            let wv = self.classes.wedges[k] as usize;
-            let partner = self.v_partner[iv];
-            let wu = if partner == NONE {
-                usize::MAX
-            } else {
-                self.classes.wedges[u_range.start + partner as usize] as usize
-            };
-            if wu == usize::MAX && !moved {
-                continue;
-            }
-            if wu != usize::MAX {
-                for k in 0..stride {
-                    self.wedge_sums[wv * stride + k] += self.wedge_sums[wu * stride + k];
-                }
-            }
-            for j in 0..m {
-                let own = self.wedge_attributes[wv * m + j];
-                let priced = self.priced.source[j];
-                let w = priced.map_or(0.0, |k| self.priced.priced[k].1 as f64);
-                let alpha_w = self.wedge_sums[wv * stride] * w;
-                let value = if self.mode == CollapseMode::HalfEdge {
-                    own
-                } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
-                    let base = wv * stride + 1 + 4 * k;
-                    let g = DVec3::new(
-                        self.wedge_sums[base],
-                        self.wedge_sums[base + 1],
-                        self.wedge_sums[base + 2],
-                    );
-                    ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
-                } else if wu != usize::MAX {
-                    let other = self.wedge_attributes[wu * m + j];
-                    (own as f64 + (other as f64 - own as f64) * t) as f32
-                } else {
-                    own
-                };
-                self.new_attributes[j] = value;
-            }
-            if let (Some(c), CollapseMode::Full) = (self.normal_channel, self.mode) {
-                let normal = Vec3::from_slice(&self.new_attributes[c..c + 3]).normalize_or_zero();
-                if normal != Vec3::ZERO {
-                    self.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
-                }
-            }
-            let id = self.log.positions.len() as u32;
-            self.log.positions.push(p.as_vec3());
-            self.log.attributes.extend_from_slice(&self.new_attributes);
-            self.log.parent.push(NONE);
-            self.log.born_at.push(step);
-            self.log.survivor_source.push(self.vertex_id[wv]);
-            self.log.parent[self.vertex_id[wv] as usize] = id;
-            if wu != usize::MAX {
-                self.log.parent[self.vertex_id[wu] as usize] = id;
-            }
-            self.vertex_id[wv] = id;
-            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.new_attributes);
-        }
-        let new_count = self.log.positions.len() as u32 - first_new;
-        // Wedges of u that no live triangle uses any more end here too.
-        for (iu, k) in u_range.clone().enumerate() {
-            let wu = self.classes.wedges[k] as usize;
-            if !self.u_seen[iu] && new_count > 0 {
-                self.log.parent[self.vertex_id[wu] as usize] = first_new;
-            }
-        }
-
-        // Triangles: those on the edge die, the others move their u corner to v's wedge.
-        let mut thirds = [NONE; 2];
-        let mut dead = 0;
-        for corner in self.lists.iter(u) {
-            let ci = corner as usize;
-            let (n, pc) = other_corners(corner);
-            let (a, b) = (
-                self.classes.class_of[self.corner_wedge[n as usize] as usize],
-                self.classes.class_of[self.corner_wedge[pc as usize] as usize],
-            );
-            if a == v || b == v {
-                self.triangle_alive[ci / 3] = false;
-                self.log.triangle_death[ci / 3] = step;
-                self.live_triangles -= 1;
-                if dead < 2 {
-                    thirds[dead] = if a == v { b } else { a };
-                }
-                dead += 1;
-                continue;
-            }
-            let wu = self.corner_wedge[ci];
-            let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
-            let wv = self.classes.wedges[v_range.start + self.u_pair[iu] as usize];
-            self.corner_wedge[ci] = wv;
-            self.log.corner_changes.push(RawCornerChange {
-                corner,
-                from_vertex: self.vertex_id[wu as usize],
-                to_vertex: self.vertex_id[wv as usize],
-            });
-        }
-        self.lists.splice(u, v);
-        let alive = &self.triangle_alive;
-        self.lists.retain(v, |c| alive[c as usize / 3]);
-        for x in thirds.into_iter().filter(|&x| x != NONE && x != u && x != v) {
-            self.lists.retain(x, |c| alive[c as usize / 3]);
-        }
-
-        // Class state.
-        let mut geometric = self.geometric[ui];
-        geometric += &self.geometric[vi];
-        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
-        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
-        self.geometric[vi] = geometric;
-        let tu = self.total[ui];
-        self.total[vi] += &tu;
-        self.position[vi] = p;
-        // The survivor of a junction inherits its line ends or meeting lines: it stays put from
-        // now on and collapses only under the junction rules (a stale interior or line kind
-        // would let it drag those lines freely).
-        if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
-            self.kind[vi] = Kind::Junction;
-        }
-        self.alive[ui] = false;
-        self.version[ui] = self.version[ui].wrapping_add(1);
-        self.version[vi] = self.version[vi].wrapping_add(1);
-        self.failed_head[vi] = NONE; // every edge of v is queued again below
-        self.log.steps.push(RawStep {
-            cost: plan.cost,
-            distance,
-            triangles_after: self.live_triangles as u32,
-            first_new_vertex: first_new,
-            new_vertex_count: new_count,
-            corner_changes_end: self.log.corner_changes.len() as u32,
-        });
-
-        // Re-queue: every edge of v, the failed edges of a parked neighbour (they may pass now),
-        // and the edges of a neighbour whose plan this collapse may have changed.
-        //
-        // A plan along x–y (neither v) pairs the wedges of x and y at their corners in the
-        // triangles beside the edge, and needs every wedge of the moving end that a live triangle
-        // uses to follow one. This collapse changed no corner of x or y (only corners of u, now
-        // v) and removed triangles only at the thirds, so x–y changed only when x or y is a third
-        // (one of its wedges may have fallen out of use). A third's edges are priced again when
-        // it is a junction or parked, whose plans depend on that (and had been, before this rule:
-        // every edge of every junction and parked neighbour); every other queued entry is still
-        // exact and stays.
-        let mut neighbours = std::mem::take(&mut self.neighbours);
-        let mut second = std::mem::take(&mut self.second_neighbours);
-        self.neighbours_into(v, &mut neighbours);
-        let is_third = |x: u32| x == thirds[0] || x == thirds[1];
-        for &x in &neighbours {
-            let xi = x as usize;
-            let parked = self.failed_head[xi] != NONE;
-            if !parked && self.kind[xi] != Kind::Junction {
-                continue;
-            }
-            if is_third(x) {
-                self.failed_head[xi] = NONE;
-                self.version[xi] = self.version[xi].wrapping_add(1);
-                self.neighbours_into(x, &mut second);
-                for &y in &second {
-                    if y != v {
-                        self.queue_edge(x, y);
-                    }
-                }
-                continue;
-            }
-            self.neighbours_into(x, &mut second);
-            let stamp = self.next_stamp();
-            let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
-            while record != NONE {
-                let (partner, next) = self.failed[record as usize];
-                self.mark[partner as usize] = stamp;
-                record = next;
-            }
-            for &y in &second {
-                if y != v && (is_third(y) || self.mark[y as usize] == stamp) {
-                    self.queue_edge(x, y);
-                }
-            }
-        }
-        for &x in &neighbours {
-            self.queue_edge(v, x);
-        }
-        self.neighbours = neighbours;
-        self.second_neighbours = second;
     }
 }

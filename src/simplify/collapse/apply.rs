@@ -1,0 +1,245 @@
+//! The collapse itself, in four stages (house.md §3): new vertices for the merged wedges, the
+//! corners and triangles around the edge, the surviving class's state and the log step, and the
+//! re-pricing of the edges whose plans changed (at once in the strict order, queued for the end
+//! of the pass in the batched one). Part of the collapse engine in `mod.rs`.
+
+use super::super::topology::{other_corners, Kind, NONE};
+use super::super::CollapseMode;
+use super::{Engine, Plan};
+use crate::progressive::{RawCornerChange, RawStep};
+use glam::{DVec3, Vec3};
+
+impl Engine<'_> {
+    /// Performs a planned (and checked) collapse; `plan` must be the latest [`Engine::plan`]
+    /// call, whose pairing scratch it uses.
+    pub(super) fn apply(&mut self, plan: &Plan) {
+        let step = self.log.steps.len() as u32 + 1;
+        let (first_new, new_count) = self.merge_wedges(plan, step);
+        let thirds = self.move_corners(plan.u, plan.v, step);
+        self.merge_classes(plan, first_new, new_count);
+        self.requeue_neighbours(plan.v, thirds);
+    }
+
+    /// New vertices: one per merged wedge pair, and one per unmerged wedge of `v` that moves,
+    /// logged at `step`; returns the first new vertex id and the count.
+    fn merge_wedges(&mut self, plan: &Plan, step: u32) -> (u32, u32) {
+        let (u, v, p) = (plan.u, plan.v, plan.p);
+        let (ui, vi) = (u as usize, v as usize);
+        let m = self.channels;
+        let stride = self.priced.stride();
+        let moved = p != self.position[vi];
+        let first_new = self.log.positions.len() as u32;
+        let u_range = self.class_wedges(ui);
+        let v_range = self.class_wedges(vi);
+        let pv = self.position[vi];
+        let pu = self.position[ui];
+        let edge = pu - pv;
+        let t = if edge.length_squared() > 0.0 {
+            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        for (iv, k) in v_range.clone().enumerate() {
+            let wv = self.classes.wedges[k] as usize;
+            let partner = self.v_partner[iv];
+            let wu = if partner == NONE {
+                usize::MAX
+            } else {
+                self.classes.wedges[u_range.start + partner as usize] as usize
+            };
+            if wu == usize::MAX && !moved {
+                continue;
+            }
+            if wu != usize::MAX {
+                for k in 0..stride {
+                    self.wedge_sums[wv * stride + k] += self.wedge_sums[wu * stride + k];
+                }
+            }
+            for j in 0..m {
+                let own = self.wedge_attributes[wv * m + j];
+                let priced = self.priced.source[j];
+                let w = priced.map_or(0.0, |k| self.priced.priced[k].1 as f64);
+                let alpha_w = self.wedge_sums[wv * stride] * w;
+                let value = if self.mode == CollapseMode::HalfEdge {
+                    own
+                } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
+                    let base = wv * stride + 1 + 4 * k;
+                    let g = DVec3::new(
+                        self.wedge_sums[base],
+                        self.wedge_sums[base + 1],
+                        self.wedge_sums[base + 2],
+                    );
+                    ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
+                } else if wu != usize::MAX {
+                    let other = self.wedge_attributes[wu * m + j];
+                    (own as f64 + (other as f64 - own as f64) * t) as f32
+                } else {
+                    own
+                };
+                self.new_attributes[j] = value;
+            }
+            if let (Some(c), CollapseMode::Full) = (self.normal_channel, self.mode) {
+                let normal = Vec3::from_slice(&self.new_attributes[c..c + 3]).normalize_or_zero();
+                if normal != Vec3::ZERO {
+                    self.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
+                }
+            }
+            let id = self.log.positions.len() as u32;
+            self.log.positions.push(p.as_vec3());
+            self.log.attributes.extend_from_slice(&self.new_attributes);
+            self.log.parent.push(NONE);
+            self.log.born_at.push(step);
+            self.log.survivor_source.push(self.vertex_id[wv]);
+            self.log.parent[self.vertex_id[wv] as usize] = id;
+            if wu != usize::MAX {
+                self.log.parent[self.vertex_id[wu] as usize] = id;
+            }
+            self.vertex_id[wv] = id;
+            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.new_attributes);
+        }
+        let new_count = self.log.positions.len() as u32 - first_new;
+        // Wedges of u that no live triangle uses any more end here too.
+        for (iu, k) in u_range.clone().enumerate() {
+            let wu = self.classes.wedges[k] as usize;
+            if !self.u_seen[iu] && new_count > 0 {
+                self.log.parent[self.vertex_id[wu] as usize] = first_new;
+            }
+        }
+        (first_new, new_count)
+    }
+
+    /// Triangles: those on the edge `u`–`v` die at `step`, the others move their `u` corner to
+    /// `v`'s wedge; returns the classes opposite the edge (NONE where there is none).
+    fn move_corners(&mut self, u: u32, v: u32, step: u32) -> [u32; 2] {
+        let u_range = self.class_wedges(u as usize);
+        let v_range = self.class_wedges(v as usize);
+        let mut thirds = [NONE; 2];
+        let mut dead = 0;
+        for corner in self.lists.iter(u) {
+            let ci = corner as usize;
+            let (n, pc) = other_corners(corner);
+            let (a, b) = (
+                self.classes.class_of[self.corner_wedge[n as usize] as usize],
+                self.classes.class_of[self.corner_wedge[pc as usize] as usize],
+            );
+            if a == v || b == v {
+                self.triangle_alive[ci / 3] = false;
+                self.log.triangle_death[ci / 3] = step;
+                self.live_triangles -= 1;
+                if dead < 2 {
+                    thirds[dead] = if a == v { b } else { a };
+                }
+                dead += 1;
+                continue;
+            }
+            let wu = self.corner_wedge[ci];
+            let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
+            let wv = self.classes.wedges[v_range.start + self.u_pair[iu] as usize];
+            self.corner_wedge[ci] = wv;
+            self.log.corner_changes.push(RawCornerChange {
+                corner,
+                from_vertex: self.vertex_id[wu as usize],
+                to_vertex: self.vertex_id[wv as usize],
+            });
+        }
+        self.lists.splice(u, v);
+        let alive = &self.triangle_alive;
+        self.lists.retain(v, |c| alive[c as usize / 3]);
+        for x in thirds.into_iter().filter(|&x| x != NONE && x != u && x != v) {
+            self.lists.retain(x, |c| alive[c as usize / 3]);
+        }
+        thirds
+    }
+
+    /// Class state: `v` takes `u`'s quadrics and the new position, `u` dies, both versions move
+    /// on (every candidate of either is stale); the step goes to the log.
+    fn merge_classes(&mut self, plan: &Plan, first_new: u32, new_count: u32) {
+        let (ui, vi, p) = (plan.u as usize, plan.v as usize, plan.p);
+        let mut geometric = self.geometric[ui];
+        geometric += &self.geometric[vi];
+        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
+        self.geometric[vi] = geometric;
+        let tu = self.total[ui];
+        self.total[vi] += &tu;
+        self.position[vi] = p;
+        // The survivor of a junction inherits its line ends or meeting lines: it stays put from
+        // now on and collapses only under the junction rules (a stale interior or line kind
+        // would let it drag those lines freely).
+        if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
+            self.kind[vi] = Kind::Junction;
+        }
+        self.alive[ui] = false;
+        self.version[ui] = self.version[ui].wrapping_add(1);
+        self.version[vi] = self.version[vi].wrapping_add(1);
+        self.failed_head[vi] = NONE; // every edge of v is queued again below
+        self.log.steps.push(RawStep {
+            cost: plan.cost,
+            distance,
+            triangles_after: self.live_triangles as u32,
+            first_new_vertex: first_new,
+            new_vertex_count: new_count,
+            corner_changes_end: self.log.corner_changes.len() as u32,
+        });
+    }
+
+    /// Re-prices what collapsing into `v` changed (see the comment inside).
+    fn requeue_neighbours(&mut self, v: u32, thirds: [u32; 2]) {
+        // Re-queue: every edge of v, the failed edges of a parked neighbour (they may pass now),
+        // and the edges of a neighbour whose plan this collapse may have changed.
+        //
+        // A plan along x–y (neither v) pairs the wedges of x and y at their corners in the
+        // triangles beside the edge, and needs every wedge of the moving end that a live triangle
+        // uses to follow one. This collapse changed no corner of x or y (only corners of u, now
+        // v) and removed triangles only at the thirds, so x–y changed only when x or y is a third
+        // (one of its wedges may have fallen out of use). A third's edges are priced again when
+        // it is a junction or parked, whose plans depend on that (and had been, before this rule:
+        // every edge of every junction and parked neighbour); every other queued entry is still
+        // exact and stays.
+        let mut neighbours = std::mem::take(&mut self.neighbours);
+        let mut second = std::mem::take(&mut self.second_neighbours);
+        self.neighbours_into(v, &mut neighbours);
+        let is_third = |x: u32| x == thirds[0] || x == thirds[1];
+        for &x in &neighbours {
+            let xi = x as usize;
+            let parked = self.failed_head[xi] != NONE;
+            if !parked && self.kind[xi] != Kind::Junction {
+                continue;
+            }
+            if is_third(x) {
+                self.failed_head[xi] = NONE;
+                self.version[xi] = self.version[xi].wrapping_add(1);
+                self.neighbours_into(x, &mut second);
+                for &y in &second {
+                    if y != v {
+                        self.requeue(x, y);
+                    }
+                }
+                continue;
+            }
+            self.neighbours_into(x, &mut second);
+            let stamp = self.next_stamp();
+            let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
+            while record != NONE {
+                let (partner, next) = self.failed[record as usize];
+                self.mark[partner as usize] = stamp;
+                record = next;
+            }
+            for &y in &second {
+                if y != v && (is_third(y) || self.mark[y as usize] == stamp) {
+                    self.requeue(x, y);
+                }
+            }
+        }
+        for &x in &neighbours {
+            self.requeue(v, x);
+        }
+        self.neighbours = neighbours;
+        self.second_neighbours = second;
+    }
+
+    /// The range of class `c`'s wedges in `classes.wedges`.
+    fn class_wedges(&self, c: usize) -> std::ops::Range<usize> {
+        self.classes.wedge_start[c] as usize..self.classes.wedge_start[c + 1] as usize
+    }
+}

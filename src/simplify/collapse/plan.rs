@@ -1,0 +1,168 @@
+//! Planning and pricing one collapse: the wedge pairing of its two classes (seams follow the
+//! edge), the placement (quadric minimiser, best point of the edge, or the survivor's position)
+//! and its cost in f64 (Garland & Heckbert's quadric plus Hoppe's 1999 attribute quadrics, with
+//! the attributes reduced out at their optimum). Part of the collapse engine in `mod.rs`.
+
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::super::quadric::Quadric;
+use super::super::topology::{other_corners, Kind, NONE};
+use super::super::CollapseMode;
+use super::{Engine, Placement, Plan};
+use glam::DVec3;
+
+impl Engine<'_> {
+    /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
+    /// kinds forbid it, the classes no longer share an edge, or the pairing would tear a seam.
+    ///
+    /// Leaves the pairing in `u_pair` (per wedge of `u`: index into `v`'s wedges), `u_seen` (the
+    /// wedge is used by a live triangle) and `v_partner` (per wedge of `v`: index into `u`'s
+    /// wedges or NONE) for [`Engine::apply`].
+    pub(super) fn plan(&mut self, u: u32, v: u32) -> Option<Plan> {
+        let (ui, vi) = (u as usize, v as usize);
+        if u == v || !self.alive[ui] || !self.alive[vi] || self.kind[ui] == Kind::Locked {
+            return None;
+        }
+        let u_wedges = self.classes.wedges_of(u);
+        let v_wedges = self.classes.wedges_of(v);
+        self.u_pair.clear();
+        self.u_pair.resize(u_wedges.len(), NONE);
+        self.u_seen.clear();
+        self.u_seen.resize(u_wedges.len(), false);
+        let ku = self.kind[ui];
+        let kv = self.kind[vi];
+        if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
+            // The common case needs no scan: one wedge each pairs trivially, and an interior u
+            // has no line to stay on. Whether the edge still exists is checked before applying.
+            self.u_pair[0] = 0;
+            self.u_seen[0] = true;
+            self.v_partner.clear();
+            self.v_partner.push(0);
+            return self.price(u, v, ku, kv);
+        }
+        let mut edge_triangles = 0;
+        let mut first_side = (NONE, NONE, NONE);
+        let mut constraint = false;
+        for corner in self.lists.iter(u) {
+            let wu = self.corner_wedge[corner as usize];
+            let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
+            self.u_seen[iu] = true;
+            let (n, p) = other_corners(corner);
+            let class_of = |k: u32| self.classes.class_of[self.corner_wedge[k as usize] as usize];
+            let v_corner = if class_of(n) == v {
+                n
+            } else if class_of(p) == v {
+                p
+            } else {
+                continue;
+            };
+            edge_triangles += 1;
+            let wv = self.corner_wedge[v_corner as usize];
+            let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
+            if self.u_pair[iu] == NONE {
+                self.u_pair[iu] = iv;
+            } else if self.u_pair[iu] != iv {
+                return None; // one wedge of u would have to follow two wedges of v
+            }
+            let material = self.materials.get(corner as usize / 3).copied().unwrap_or(0);
+            if edge_triangles == 1 {
+                first_side = (wu, wv, material);
+            } else if first_side != (wu, wv, material) {
+                constraint = true;
+            }
+        }
+        if edge_triangles == 0 || edge_triangles > 2 {
+            return None;
+        }
+        constraint |= edge_triangles == 1;
+        if ku.on_line() && !constraint {
+            return None; // a line vertex only slides along its line
+        }
+        // A junction may go along any edge: the pairing below admits it only when every wedge it
+        // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
+        // ends there) but never merge the two sides of a seam.
+        // Every used wedge of u needs its own wedge of v: no seam opens or closes.
+        self.v_partner.clear();
+        self.v_partner.resize(v_wedges.len(), NONE);
+        for iu in 0..u_wedges.len() {
+            if !self.u_seen[iu] {
+                continue;
+            }
+            let iv = self.u_pair[iu];
+            if iv == NONE || self.v_partner[iv as usize] != NONE {
+                return None;
+            }
+            self.v_partner[iv as usize] = iu as u32;
+        }
+        self.price(u, v, ku, kv)
+    }
+
+    /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made.
+    fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind) -> Option<Plan> {
+        let (ui, vi) = (u as usize, v as usize);
+        let u_wedges = self.classes.wedges_of(u);
+        let v_wedges = self.classes.wedges_of(v);
+
+        let placement = match (self.mode, ku, kv) {
+            (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
+            (CollapseMode::Full, Kind::Line, Kind::Line) => Placement::Segment,
+            _ => Placement::Fixed,
+        };
+        let mut total = self.total[ui];
+        total += &self.total[vi];
+        let stride = self.priced.stride();
+        let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
+        for (iv, &wv) in v_wedges.iter().enumerate() {
+            let partner = self.v_partner[iv];
+            let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
+            // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
+            // attributes; an unmerged wedge keeps its own unless it moves.
+            let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
+            // Per channel `(Σ area·w·g, Σ area·w·d)` of the merged pair (or the lone wedge), and
+            // the pair's area `α`.
+            let sv = sums_of(wv);
+            let su = if wu == NONE { &self.zero_sums[..] } else { sums_of(wu) };
+            let alpha = sv[0] + su[0];
+            let channels = sv[1..]
+                .chunks_exact(4)
+                .zip(su[1..].chunks_exact(4))
+                .map(|(v, u)| (DVec3::new(v[0] + u[0], v[1] + u[1], v[2] + u[2]), v[3] + u[3]));
+            if optimal {
+                if !(alpha > 0.0) {
+                    continue;
+                }
+                // One division per wedge: 1 / (α w_j) = (1 / α) · (1 / w_j).
+                let inverse_alpha = 1.0 / alpha;
+                let mut optimum = Quadric::ZERO;
+                for ((g, d), &inverse_weight) in channels.zip(&self.inverse_weights) {
+                    optimum.add_optimal_attribute(g, d, inverse_alpha * inverse_weight);
+                }
+                total.subtract(&optimum);
+            } else {
+                let own =
+                    &self.wedge_attributes[wv as usize * self.channels..(wv as usize + 1) * self.channels];
+                for ((g, d), &(j, w)) in channels.zip(&self.priced.priced) {
+                    total.add_fixed_attribute(g, d, alpha * w as f64, own[j] as f64);
+                }
+            }
+        }
+        // Canonical order for the symmetric placements, so both directions agree bit for bit.
+        let (lo, hi) = (self.position[u.min(v) as usize], self.position[u.max(v) as usize]);
+        let p = match placement {
+            Placement::Fixed => self.position[vi],
+            Placement::Segment => total.minimize_on_segment(lo, hi),
+            Placement::Free => match total.minimize() {
+                // Beyond one edge length from the midpoint the minimiser has left the
+                // neighbourhood: the quadric is nearly flat there and only extrapolates.
+                Some(p) if (p - 0.5 * (lo + hi)).length() <= (hi - lo).length() => p,
+                _ => total.minimize_on_segment(lo, hi),
+            },
+        };
+        // The stored position is f32: price and check exactly the point that will be output.
+        let p = p.as_vec3().as_dvec3();
+        let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
+        let cost = total.error(p).max(0.0) / weight;
+        cost.is_finite().then_some(Plan { u, v, p, cost, placement })
+    }
+}

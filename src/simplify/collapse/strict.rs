@@ -1,0 +1,59 @@
+//! The strict order ([`super::super::Schedule::Strict`]): one collapse at a time, always the
+//! cheapest valid one, from a 4-ary heap with lazy invalidation (`queue.rs`). Every collapse
+//! re-prices the edges it changed at once. Part of the collapse engine in `mod.rs`.
+
+use super::super::StopReason;
+use super::{stamp, Engine, Progress};
+
+impl Engine<'_> {
+    /// Pops collapses in order until the target, the error limit or the end of the queue.
+    pub(super) fn collapse_until(
+        &mut self,
+        target: usize,
+        max_error: f32,
+        progress: &mut dyn FnMut(f32),
+    ) -> StopReason {
+        let mut reporter = Progress::new(self.live_triangles, target);
+        loop {
+            reporter.update(self.live_triangles, progress);
+            if target > 0 && self.live_triangles <= target {
+                return StopReason::TargetReached;
+            }
+            // Stale entries pile up (several per collapse). Dropping them in one linear pass
+            // costs a few ns each, popping them one by one a cache-missing sift each: purge
+            // whenever the queue has grown by a quarter since the last purge (amortised O(1) per
+            // push). Measured on the built-in character (cachegrind), growth of 2× left 9 of 10
+            // pops stale; a quarter leaves 1 in 2 and saves more sifting than the purges cost.
+            if self.queue.len() > self.purged_length.max(2048) * 5 / 4 {
+                let (alive, version) = (&self.alive, &self.version);
+                self.queue.purge(|c| {
+                    let (u, v) = (c.u() as usize, c.v as usize);
+                    alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
+                });
+                self.purged_length = self.queue.len();
+            }
+            let Some(entry) = self.queue.pop() else {
+                return StopReason::NoValidCollapse;
+            };
+            let (u, v) = (entry.u(), entry.v);
+            let (ui, vi) = (u as usize, v as usize);
+            if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
+                continue;
+            }
+            if entry.cost() > max_error {
+                return StopReason::MaxErrorReached;
+            }
+            // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
+            // which a current entry reproduces exactly.
+            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
+                continue;
+            };
+            if !self.check(&plan) {
+                self.park(u, v);
+                self.park(v, u);
+                continue;
+            }
+            self.apply(&plan);
+        }
+    }
+}
