@@ -1,0 +1,217 @@
+// Benchmark (issue 14, item 3): our LOD levels against meshoptimizer 1.3 under animation, at the same
+// triangle counts.
+//
+//   source scripts/tools.sh; build_wasm node && npm ci
+//   node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]
+//
+// For every model it has (the shared models CesiumMan, Fox, RiggedSimple and the project's
+// assets/character.glb, robot.glb, parts.glb), the counts are our default build's levels from level 1 on
+// (`buildClod()`: multi-pose simplification). At each count it simplifies the bind-pose mesh with
+// meshoptimizer `simplify` (merged mesh welded by position: it may collapse across seams) and
+// `simplifyWithAttributes` (the unwelded mesh with its seams, normals and uv priced with weight 1 each: what a
+// gltf-transform user gets), each from the full mesh. Both keep a subset of the input vertices, so their
+// indices skinned with the full mesh's `skinnedPositions(clip, t)` are their animated levels; ours are
+// `levelSkinnedPositions(i, clip, t)`. Where a side stops short of a count, the comparison moves to the count
+// ours and the meshoptimizer variant that went further both reached (ours rebuilt with those counts as its
+// levels, meshoptimizer re-run); a variant still short of it is shown but not taken as the better one, and a
+// model meshoptimizer cannot simplify at all is skipped with a line saying so.
+//
+// Error: symmetric sampled surface distance (seeded, same samples for all) against the full mesh skinned at
+// the same frame, in % of the bind-pose bounding-box diagonal; mean averaged over frames, Hausdorff the
+// worst frame. Frames: 4 of each of the first 2 clips ((f + 0.5) / 4 of the duration); --short: 2 frames of
+// the first clip, 4,000 samples (the regression test, tests/js/animated.test.mjs, runs that form).
+import { readFileSync, existsSync, writeFileSync } from 'node:fs';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import { MeshoptSimplifier } from 'meshoptimizer';
+import { api, modelBytes } from '../tests/js/models.mjs';
+
+const SEED = 12345;
+// The issue's targets: ours at most 0.8x the better meshoptimizer averaged over levels, 1.0x at every level.
+export const TARGET_MEAN_RATIO = 0.8;
+export const TARGET_WORST_RATIO = 1.0;
+// Errors under 0.001 % of the diagonal count as 0.001 % in the ratios: that is 0.01 pixel on a character
+// 1,000 pixels tall, invisible, and where float32 skinning noise lives, so a ratio of two such errors
+// (parts.glb's first levels: lossless removal of flat-plate vertices by both) would be noise.
+export const RATIO_FLOOR_PCT = 0.001;
+export const FULL = { samples: 10000, frames: 4, clips: 2 };
+export const SHORT = { samples: 4000, frames: 2, clips: 1 };
+
+/** Welds vertices by position only: meshoptimizer sees one vertex per position, so it may collapse across seams. */
+function weldByPosition(indices, positions) {
+  const first = new Map();
+  const remap = new Uint32Array(positions.length / 3);
+  for (let v = 0; v < remap.length; v++) {
+    const key = `${positions[3 * v]},${positions[3 * v + 1]},${positions[3 * v + 2]}`;
+    if (!first.has(key)) first.set(key, v);
+    remap[v] = first.get(key);
+  }
+  return indices.map((i) => remap[i]);
+}
+
+/** Normals and uv interleaved, five floats per vertex (uv 0 when the model has none). */
+function normalsAndUvs(character) {
+  const normals = character.normals();
+  const uvs = character.uvs();
+  const out = new Float32Array(5 * character.vertexCount);
+  for (let v = 0; v < character.vertexCount; v++) {
+    out.set(normals.subarray(3 * v, 3 * v + 3), 5 * v);
+    if (uvs) out.set(uvs.subarray(2 * v, 2 * v + 2), 5 * v + 3);
+  }
+  return out;
+}
+
+/** The models present: [name, bytes]; the shared ones are skipped (with a line) when absent. */
+function models() {
+  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb'].map((f) => [f, modelBytes(f)]);
+  for (const f of ['character.glb', 'robot.glb', 'parts.glb']) {
+    const path = fileURLToPath(new URL(`../assets/${f}`, import.meta.url));
+    if (existsSync(path)) list.push([f, new Uint8Array(readFileSync(path))]);
+    else console.log(`skipping ${f}: ${path} is missing`);
+  }
+  return list.filter(([, bytes]) => bytes);
+}
+
+/** One model: per level the three errors, or `{ skipped }` when it has nothing to animate. */
+function measureModel(name, bytes, { samples, frames, clips }) {
+  const character = api.Character.fromGlb(bytes);
+  try {
+    const clipNames = character.clipNames.slice(0, clips);
+    if (character.jointCount === 0 || clipNames.length === 0) {
+      return { name, skipped: `no ${character.jointCount === 0 ? 'skin' : 'animation clip'} to pose it with` };
+    }
+    const indices = character.indices();
+    const positions = character.bindPositions();
+    const diag = api.boundsDiagonal(positions);
+    const welded = weldByPosition(indices, positions);
+    const attributes = normalsAndUvs(character);
+    const simplify = (n) => MeshoptSimplifier.simplify(welded, positions, 3, n * 3, 1.0, [])[0];
+    // Weight 1 each: the meshoptimizer docs' advice for unit-range attributes (normals, uv).
+    const withAttributes = (n) =>
+      MeshoptSimplifier.simplifyWithAttributes(indices, positions, 3, attributes, 5, [1, 1, 1, 1, 1], null, n * 3, 1.0)[0];
+
+    const defaults = character.buildClod();
+    const counts = Array.from({ length: defaults.levelCount - 1 }, (_, i) => defaults.level(i + 1).triangleCount);
+    // Compared at the count ours and the meshoptimizer variant that went further both reached; the other
+    // variant is re-run there, and where it stops short of it (welded `simplify` does on CesiumMan, Fox and
+    // RiggedSimple) it is shown but not taken as the better one.
+    const rows = counts.map((n) => {
+      let s = simplify(n), a = withAttributes(n);
+      const common = Math.max(n, Math.min(s.length / 3, a.length / 3));
+      if (s.length / 3 !== common) s = simplify(common);
+      if (a.length / 3 !== common) a = withAttributes(common);
+      return { target: n, common, simplify: s, attributes: a };
+    }).filter((r) => r.common < character.triangleCount);
+    if (rows.length === 0) {
+      defaults.free();
+      return { name, skipped: `meshoptimizer (default flags) keeps all ${character.triangleCount} triangles at every count: nothing to compare` };
+    }
+    const kept = rows.filter((r, k) => rows.slice(0, k).every((q) => r.common < q.common));
+    const merged = rows.length - kept.length;
+    const commons = kept.map((r) => r.common);
+    let clod = defaults;
+    let levelOf = (row) => counts.indexOf(row.target) + 1;
+    if (rows.some((r) => r.common !== r.target)) {
+      clod = character.buildClod({ levels: commons });
+      // Its level 0 is the full mesh; each common count gets the first level at or under it.
+      const got = Array.from({ length: clod.levelCount }, (_, i) => clod.level(i).triangleCount);
+      levelOf = (row) => got.findIndex((t) => t <= row.common);
+      defaults.free();
+    }
+    const unique = kept;
+
+    const sums = unique.map(() => ({ ours: [0, 0], simplify: [0, 0], attributes: [0, 0] }));
+    let n = 0;
+    for (const clip of clipNames) {
+      for (let f = 0; f < frames; f++) {
+        const t = character.clipDuration(clip) * (f + 0.5) / frames;
+        const full = character.skinnedPositions(clip, t);
+        const add = (acc, d) => { acc[0] += d.mean; acc[1] = Math.max(acc[1], d.hausdorff); };
+        unique.forEach((row, k) => {
+          const i = levelOf(row);
+          const level = clod.level(i);
+          add(sums[k].ours, api.surfaceDistance(full, indices, clod.levelSkinnedPositions(i, clip, t), level.indices, samples, SEED));
+          add(sums[k].simplify, api.surfaceDistance(full, indices, full, row.simplify, samples, SEED));
+          add(sums[k].attributes, api.surfaceDistance(full, indices, full, row.attributes, samples, SEED));
+        });
+        n++;
+      }
+    }
+    const pct = (acc) => ({ mean: 100 * acc[0] / n / diag, hausdorff: 100 * acc[1] / diag });
+    const levels = unique.map((row, k) => {
+      const ours = pct(sums[k].ours), s = pct(sums[k].simplify), a = pct(sums[k].attributes);
+      const t = { simplify: row.simplify.length / 3, attributes: row.attributes.length / 3 };
+      const reached = ['simplify', 'attributes'].filter((v) => t[v] <= row.common);
+      const better = reached.length === 2 ? (s.mean <= a.mean ? 'simplify' : 'attributes') : reached[0];
+      const best = better === 'simplify' ? s : a;
+      return {
+        triangles: { ours: clod.level(levelOf(row)).triangleCount, ...t },
+        ours, simplify: s, attributes: a, better,
+        ratio: Math.max(ours.mean, RATIO_FLOOR_PCT) / Math.max(best.mean, RATIO_FLOOR_PCT),
+      };
+    });
+    clod.free();
+    const meanRatio = levels.reduce((s, l) => s + l.ratio, 0) / levels.length;
+    const worst = levels.reduce((w, l) => (l.ratio > w.ratio ? l : w));
+    return {
+      name, triangles: character.triangleCount, clips: clipNames, targets: counts, merged, levels, meanRatio,
+      worst: { ratio: worst.ratio, triangles: worst.triangles.ours },
+    };
+  } finally {
+    character.free();
+  }
+}
+
+/** Every model present, measured with `settings` (FULL or SHORT). */
+export async function measure(settings = FULL) {
+  await MeshoptSimplifier.ready;
+  return models().map(([name, bytes]) => measureModel(name, bytes, settings));
+}
+
+/** The per-model markdown table, and its summary lines. */
+export function format(model) {
+  if (model.skipped) return `## ${model.name}: skipped (${model.skipped})`;
+  const f = (x) => (x < 0.001 && x > 0 ? x.toExponential(1) : x.toFixed(3));
+  const lines = [
+    `## ${model.name}: ${model.triangles} triangles, clips ${model.clips.join(', ')}; our levels ${model.targets.join('/')}`,
+    '| level | triangles (ours / simplify / withAttributes) | ours mean % | simplify mean % | withAttributes mean % | ours / better | ours Hausdorff % | better Hausdorff % |',
+    '|---|---|---|---|---|---|---|---|',
+  ];
+  model.levels.forEach((l, i) => {
+    const t = l.triangles;
+    const tris = t.ours === t.simplify && t.ours === t.attributes ? `${t.ours}` : `${t.ours} / ${t.simplify} / ${t.attributes}`;
+    lines.push(`| ${i + 1} | ${tris} | ${f(l.ours.mean)} | ${f(l.simplify.mean)} | ${f(l.attributes.mean)} | ` +
+      `${l.ratio.toFixed(2)} | ${f(l.ours.hausdorff)} | ${f(l[l.better].hausdorff)} |`);
+  });
+  if (model.merged) lines.push(`(${model.merged} of our levels below a count meshoptimizer could not go under: compared once, at that count)`);
+  lines.push(`mean of ratios over levels: ${model.meanRatio.toFixed(2)} (target <= ${TARGET_MEAN_RATIO})`);
+  lines.push(`worst level: ${model.worst.ratio.toFixed(2)} at ${model.worst.triangles} triangles (target <= ${TARGET_WORST_RATIO})`);
+  return lines.join('\n');
+}
+
+if (import.meta.url === pathToFileURL(process.argv[1]).href) {
+  const argv = process.argv.slice(2);
+  if (argv.includes('--help')) {
+    console.log('node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]\n' +
+      '  --short: 2 frames of 1 clip, 4,000 samples; --json: every number; --baseline: per model the mean and\n' +
+      '  worst-level ratio, as tests/js/animated.test.mjs reads them (bench/animated-baseline.json, from --short)');
+    process.exit(0);
+  }
+  const settings = argv.includes('--short') ? SHORT : FULL;
+  const jsonAt = argv.indexOf('--json');
+  const baselineAt = argv.indexOf('--baseline');
+  const started = performance.now();
+  const results = await measure(settings);
+  console.log(`settings: ${settings.frames} frames of ${settings.clips} clip(s), ${settings.samples} samples each way\n`);
+  for (const model of results) console.log(`${format(model)}\n`);
+  console.log(`| model | ours / better meshopt, mean over levels | worst level |\n|---|---|---|`);
+  for (const m of results) {
+    if (!m.skipped) console.log(`| ${m.name} | ${m.meanRatio.toFixed(2)} | ${m.worst.ratio.toFixed(2)} (${m.worst.triangles} tris) |`);
+  }
+  console.log(`\n${((performance.now() - started) / 1000).toFixed(1)} s`);
+  if (baselineAt >= 0) {
+    const models = Object.fromEntries(results.filter((m) => !m.skipped)
+      .map((m) => [m.name, { meanRatio: +m.meanRatio.toFixed(4), worstRatio: +m.worst.ratio.toFixed(4) }]));
+    writeFileSync(argv[baselineAt + 1], JSON.stringify({ settings, models }, null, 1) + '\n');
+  }
+  if (jsonAt >= 0) writeFileSync(argv[jsonAt + 1], JSON.stringify({ settings, models: results }, null, 1) + '\n');
+}
