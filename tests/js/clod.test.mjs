@@ -94,7 +94,7 @@ test('buildClodBytes: progress in order ending at 1, bytes that start with "CLOD
   const bytesMs = performance.now() - started;
   assert.ok(encoded instanceof Uint8Array);
   assert.equal(new TextDecoder().decode(encoded.subarray(0, 4)), 'CLOD');
-  assert.equal(new DataView(encoded.buffer, encoded.byteOffset).getUint32(4, true), 1, 'format version 1');
+  assert.equal(new DataView(encoded.buffer, encoded.byteOffset).getUint32(4, true), 2, 'format version 2');
   assert.equal(progress[0], 0);
   assert.equal(progress.at(-1), 1);
   assert.equal(progress.filter((f) => f === 1).length, 1, '1 only once, when the bytes are ready');
