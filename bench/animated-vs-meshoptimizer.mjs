@@ -24,6 +24,7 @@ import { readFileSync, existsSync, writeFileSync } from 'node:fs';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api, modelBytes } from '../tests/js/models.mjs';
+import { normalsAndUvs, weldByPosition } from './meshopt-input.mjs';
 
 const SEED = 12345;
 // The issue's targets: ours at most 0.8x the better meshoptimizer averaged over levels, 1.0x at every level.
@@ -35,30 +36,6 @@ export const TARGET_WORST_RATIO = 1.0;
 export const RATIO_FLOOR_PCT = 0.001;
 export const FULL = { samples: 10000, frames: 4, clips: 2 };
 export const SHORT = { samples: 4000, frames: 2, clips: 1 };
-
-/** Welds vertices by position only: meshoptimizer sees one vertex per position, so it may collapse across seams. */
-function weldByPosition(indices, positions) {
-  const first = new Map();
-  const remap = new Uint32Array(positions.length / 3);
-  for (let v = 0; v < remap.length; v++) {
-    const key = `${positions[3 * v]},${positions[3 * v + 1]},${positions[3 * v + 2]}`;
-    if (!first.has(key)) first.set(key, v);
-    remap[v] = first.get(key);
-  }
-  return indices.map((i) => remap[i]);
-}
-
-/** Normals and uv interleaved, five floats per vertex (uv 0 when the model has none). */
-function normalsAndUvs(character) {
-  const normals = character.normals();
-  const uvs = character.uvs();
-  const out = new Float32Array(5 * character.vertexCount);
-  for (let v = 0; v < character.vertexCount; v++) {
-    out.set(normals.subarray(3 * v, 3 * v + 3), 5 * v);
-    if (uvs) out.set(uvs.subarray(2 * v, 2 * v + 2), 5 * v + 3);
-  }
-  return out;
-}
 
 /** The models present: [name, bytes]; the shared ones are skipped (with a line) when absent. */
 function models() {

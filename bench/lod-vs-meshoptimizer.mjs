@@ -19,6 +19,7 @@ import { execFileSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api, modelBytes } from '../tests/js/models.mjs';
+import { normalsAndUvs, weldByPosition } from './meshopt-input.mjs';
 
 // --build-only prints the build times (1 and 4) and skips the error measurements.
 const BUILD_ONLY = process.argv.includes('--build-only');
@@ -32,18 +33,6 @@ await MeshoptSimplifier.ready;
 
 const now = () => performance.now();
 const pct = (d, diag) => (100 * d / diag).toFixed(3);
-
-/** Welds vertices by position only: meshoptimizer sees one vertex per position, so it may collapse across seams. */
-function weldByPosition(indices, positions) {
-  const first = new Map();
-  const remap = new Uint32Array(positions.length / 3);
-  for (let v = 0; v < remap.length; v++) {
-    const key = `${positions[3 * v]},${positions[3 * v + 1]},${positions[3 * v + 2]}`;
-    if (!first.has(key)) first.set(key, v);
-    remap[v] = first.get(key);
-  }
-  return indices.map((i) => remap[i]);
-}
 
 function meshoptLevels(indices, positions, counts, chained) {
   const levels = [];
@@ -82,18 +71,6 @@ function meshoptAttributeChain(indices, positions, attributes, counts, update) {
     }
   }
   return levels;
-}
-
-/** Normals and uv interleaved, five floats per vertex (uv 0 when the model has none). */
-function normalsAndUvs(character) {
-  const normals = character.normals();
-  const uvs = character.uvs();
-  const out = new Float32Array(5 * character.vertexCount);
-  for (let v = 0; v < character.vertexCount; v++) {
-    out.set(normals.subarray(3 * v, 3 * v + 3), 5 * v);
-    if (uvs) out.set(uvs.subarray(2 * v, 2 * v + 2), 5 * v + 3);
-  }
-  return out;
 }
 
 /**
