@@ -1,5 +1,6 @@
-//! The articulated progressive mesh and its LOD chain on the shared models: invariants at every
-//! level, the ancestor tables, and the back-propagation identity at the simplification pose.
+//! The articulated progressive mesh and its LOD chain on the shared models and the project's
+//! flat-shaded robot and many-part character: invariants at every level, the ancestor tables,
+//! and the back-propagation identity at the simplification pose.
 
 mod common;
 
@@ -15,6 +16,20 @@ const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
 fn load(name: &str) -> Option<Character> {
     let bytes = common::model_bytes(name)?;
     Some(import::from_glb(&bytes).expect("shared models import"))
+}
+
+/// The shared models present, then `assets/robot.glb` (flat-shaded, rigid parts, morph targets)
+/// and `assets/parts.glb` (57 open plates).
+fn every_model() -> Vec<(&'static str, Character)> {
+    let mut models: Vec<(&str, Character)> =
+        MODELS.iter().filter_map(|&name| load(name).map(|c| (name, c))).collect();
+    for (name, bytes) in [
+        ("robot.glb", include_bytes!("../assets/robot.glb").as_slice()),
+        ("parts.glb", include_bytes!("../assets/parts.glb").as_slice()),
+    ] {
+        models.push((name, import::from_glb(bytes).expect("the generated characters import")));
+    }
+    models
 }
 
 fn build(character: &Character, options: &ClodOptions) -> Clod {
@@ -66,9 +81,8 @@ fn check_chain(name: &str, clod: &Clod) {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-fn default_chain_holds_its_invariants_on_every_shared_model() {
-    for name in MODELS {
-        let Some(character) = load(name) else { continue };
+fn default_chain_holds_its_invariants_on_every_model() {
+    for (name, character) in every_model() {
         let clod = build(&character, &ClodOptions::default());
         check_chain(name, &clod);
         // Level 0 of the default chain is the input mesh itself, its facet corners welded
@@ -98,8 +112,7 @@ fn default_chain_holds_its_invariants_on_every_shared_model() {
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skinning_each_level_at_the_simplification_pose_reproduces_its_static_positions() {
-    for name in MODELS {
-        let Some(character) = load(name) else { continue };
+    for (name, character) in every_model() {
         let clip = &character.clips[0];
         let time = clip.duration() * 0.5;
         let pose = SimplificationPose::ClipFrame { clip: clip.name.clone(), time };
