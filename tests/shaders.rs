@@ -1,11 +1,12 @@
-//! The renderer's WGSL (`skin.wgsl`, `mipmap.wgsl`), checked without a GPU: it parses and
+//! The renderer's WGSL (`skin.wgsl`, `crowd.wgsl`, `mipmap.wgsl`), checked without a GPU: it parses and
 //! validates with naga (what wgpu runs on it), every entry point translates to GLSL ES 3.00 for
 //! WebGL2, and each uniform struct has the size of its `#[repr(C)]` Rust mirror (naga's layouter
 //! gives WGSL's size).
 
+use clod_viewer::render::crowd::{InstanceRaw, INSTANCE_OFFSETS};
 use clod_viewer::render::difference::{AreaRaw, DIFFERENCE_WGSL};
 use clod_viewer::render::mipmap::MIPMAP_WGSL;
-use clod_viewer::render::uniforms::{MAX_JOINTS, MIRRORS, SKIN_WGSL};
+use clod_viewer::render::uniforms::{CROWD_WGSL, MAX_JOINTS, MIRRORS, SKIN_WGSL};
 use naga::back::glsl;
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
@@ -49,6 +50,40 @@ fn skin_shader_validates_and_has_the_entry_points_the_renderer_binds() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skin_shader_translates_to_webgl2_glsl() {
     translates_to_webgl2_glsl(SKIN_WGSL);
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn crowd_shader_validates_translates_and_reads_the_instance_records_rust_writes() {
+    let names = entry_points(CROWD_WGSL);
+    for entry in ["fs_crowd", "vs_crowd_geomorph", "vs_crowd_level"] {
+        assert!(names.iter().any(|n| n == entry), "{entry} in {names:?}");
+    }
+    translates_to_webgl2_glsl(CROWD_WGSL);
+    // `CrowdInstance`'s members sit at the offsets the instance vertex layout reads from each
+    // `InstanceRaw`, and the struct is as large as the record.
+    let (module, _) = parse_and_validate(CROWD_WGSL);
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let (handle, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("CrowdInstance"))
+        .expect("struct CrowdInstance");
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("CrowdInstance is a struct") };
+    let offsets: Vec<u64> = members.iter().map(|m| u64::from(m.offset)).collect();
+    assert_eq!(offsets, INSTANCE_OFFSETS);
+    assert_eq!(*span as usize, std::mem::size_of::<InstanceRaw>());
+    assert_eq!(layouter[handle].size as usize, std::mem::size_of::<InstanceRaw>());
+    // The instance attributes end at location 15: WebGL2 guarantees 16 vertex attributes.
+    let locations: Vec<u32> = members
+        .iter()
+        .filter_map(|m| match m.binding {
+            Some(naga::Binding::Location { location, .. }) => Some(location),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(locations, [12, 13, 14, 15]);
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -11,7 +11,8 @@
 // mouse, touch and keyboard input into camera settings, and copies `viewer.state()` into labels.
 //
 // Attributes: src (default: the built-in character), clip, modes (`pop blend morph`, one to three,
-// in order), variant (`opaque-first | naive | dither`), tolerance (pixels), backend
+// in order), mode (`single` | `crowd`: the character instanced `count` times, default 400, up to
+// 4096, each instance with its own level and transitions), variant (`opaque-first | naive | dither`), tolerance (pixels), backend
 // (`webgpu | webgl2`), autoplay (absent: paused at t = 0), loading (`lazy`: nothing is fetched
 // before the element is scrolled into view; GPU work always waits for that), manual-frames (draw
 // only on `renderFrame`, for tests).
@@ -208,7 +209,7 @@ export function parseModes(text) {
 }
 
 export class ClodViewerElement extends HTMLElement {
-  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay'];
+  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay', 'mode', 'count'];
 
   #canvas = null;
   #labels = [];
@@ -569,7 +570,7 @@ export class ClodViewerElement extends HTMLElement {
   // `[attribute, () => setState object]` pairs for the attributes set (a bad `modes` throws).
   #initialState() {
     const pairs = [['autoplay', () => ({ paused: !this.hasAttribute('autoplay') })]];
-    for (const name of ['clip', 'modes', 'variant', 'tolerance']) {
+    for (const name of ['clip', 'modes', 'variant', 'tolerance', 'mode', 'count']) {
       if (this.hasAttribute(name)) pairs.push([name, () => this.#attributeState(name)]);
     }
     return pairs;
@@ -583,6 +584,8 @@ export class ClodViewerElement extends HTMLElement {
       case 'variant': return { variant: value };
       case 'tolerance': return { tolerance: Number(value) };
       case 'autoplay': return { paused: value === null };
+      case 'mode': return { mode: value ?? 'single' };
+      case 'count': return { count: Number(value) };
       default: return {};
     }
   }
@@ -654,7 +657,10 @@ export class ClodViewerElement extends HTMLElement {
       const t = view.to !== view.level ? ` → ${view.to}, t = ${view.t.toFixed(2)}` : '';
       // Magnified views say so: what is seen is the real size's change, enlarged.
       const magnified = state.magnify > 1 ? ` · magnified ×${state.magnify}` : '';
-      label.textContent = `${METHOD_LABELS[view.method] ?? view.method} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles${magnified}`;
+      const name = METHOD_LABELS[view.method] ?? view.method;
+      label.textContent = state.crowd
+        ? `${name} · ${state.crowd.drawn.toLocaleString()} of ${state.crowd.instances.toLocaleString()} drawn · ${view.triangles.toLocaleString()} triangles`
+        : `${name} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles${magnified}`;
     });
     // A label wider than its view (three views in a narrow column) takes the short form; one
     // still too wide ends in an ellipsis (CSS). Written first, measured after: one layout.
@@ -663,7 +669,10 @@ export class ClodViewerElement extends HTMLElement {
       if (!view || label.scrollWidth <= label.clientWidth) return;
       const t = view.to !== view.level ? `→${view.to} (${view.t.toFixed(2)})` : '';
       const magnified = state.magnify > 1 ? ` · ×${state.magnify}` : '';
-      label.textContent = `${SHORT_METHOD_LABELS[view.method] ?? view.method} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
+      const name = SHORT_METHOD_LABELS[view.method] ?? view.method;
+      label.textContent = state.crowd
+        ? `${name} · ${view.triangles.toLocaleString()} tris`
+        : `${name} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
     });
     if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
     if (state.meter.transitions > this.#meterSeen) {

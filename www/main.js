@@ -34,6 +34,7 @@ if (params.get('variant')) viewer.setAttribute('variant', params.get('variant'))
 if (params.get('tolerance')) viewer.setAttribute('tolerance', params.get('tolerance'));
 if (params.has('t') || testMode) viewer.removeAttribute('autoplay');
 if (params.get('model')) viewer.setAttribute('src', params.get('model'));
+if (params.get('crowd')) { viewer.setAttribute('mode', 'crowd'); viewer.setAttribute('count', params.get('crowd')); }
 // The element starts loading when it is defined: only now, with the URL's attributes set.
 await import('./clod-viewer.js');
 
@@ -129,6 +130,8 @@ function syncControls(state) {
   $('dolly').checked = state.distanceMode === 'dolly';
   $('distance').value = Math.log(Math.max(1, state.distance)) / Math.log(100);
   $('distance-out').textContent = `${state.distance.toFixed(1)}×`;
+  $('crowd-on').checked = state.mode === 'crowd';
+  if (state.crowd) $('crowd-count').value = String(state.crowd.instances);
 }
 
 // Log-scale sliders: 0..1 maps to lo..hi geometrically.
@@ -172,6 +175,9 @@ function wireControls() {
   $('meter-on').addEventListener('change', (e) => set({ meter: e.target.checked }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
   $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
+  const crowd = () => set({ mode: $('crowd-on').checked ? 'crowd' : 'single', count: Number($('crowd-count').value) });
+  $('crowd-on').addEventListener('change', crowd);
+  $('crowd-count').addEventListener('change', crowd);
   const continuous = () => {
     const on = $('continuous-on').checked;
     $('continuous').disabled = !on;
@@ -253,6 +259,7 @@ function showStats() {
     ['Backend', [s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2', s.adapter, `MSAA ${s.msaa}×`].filter(Boolean).join(' · ')],
     ['Pop spike', spike ? formatSpike(spike) : measuring ? 'measuring…' : 'press “Measure pop spike” (the views pause for a few seconds)'],
   ];
+  if (s.crowd) rows.splice(1, 0, ['Crowd', crowdText(s.crowd)]);
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
   rows.push(['Meter', s.meter.on ? `measured at ${s.meter.size.join(' × ')} px per view, ${s.meter.transitions} transitions` : 'off']);
   drawMeterChart();
@@ -267,6 +274,13 @@ function showStats() {
     $('scrub').value = (s.animTime % clip.duration) / clip.duration;
     $('scrub-out').textContent = `${(s.animTime % clip.duration).toFixed(2)} s`;
   }
+}
+
+function crowdText(c) {
+  const perLevel = c.perLevel.map((n, i) => `L${i} ${n}`).join(' · ');
+  const share = c.trianglesFull ? (100 * c.trianglesDrawn / c.trianglesFull).toFixed(1) : '–';
+  return `${c.drawn.toLocaleString()} of ${c.instances.toLocaleString()} instances drawn (${perLevel}) · ` +
+    `${c.transitions} in transition · ${c.trianglesDrawn.toLocaleString()} triangles, ${share} % of full detail`;
 }
 
 function lodBuildText(s) {
@@ -364,6 +378,7 @@ function writeUrl() {
     if (params.get('backend')) next.set('backend', params.get('backend'));
     if (s.distanceMode === 'manual') next.set('distance', s.distance.toFixed(2));
     if (s.continuousTriangles) next.set('lod', s.continuousTriangles);
+    if (s.crowd) next.set('crowd', s.crowd.instances);
     if (testMode) next.set('test', '1');
     history.replaceState(null, '', `?${next.toString().replaceAll('%2B', '+')}`);
   }, 300);

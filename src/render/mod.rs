@@ -8,6 +8,7 @@
 //! from a uniform block of joint matrices (the same on WebGPU and WebGL2, for fairness).
 
 pub mod camera;
+pub mod crowd;
 pub mod difference;
 pub mod layout;
 pub mod lod_source;

@@ -162,14 +162,15 @@ fn bayer_threshold(pixel: vec2<u32>) -> f32 {
     return (f32(k) + 0.5) / 16.0;
 }
 
-// Whether the draw's screen-door mask drops the fragment at framebuffer position `xy`.
-fn dithered_out(xy: vec2<f32>) -> bool {
-    if (draw.dither_mode == 0u) {
+// Whether a screen-door mask (`mode` and `threshold` as in `Draw`) drops the fragment at
+// framebuffer position `xy`.
+fn dithered_out(xy: vec2<f32>, mode: u32, threshold: f32) -> bool {
+    if (mode == 0u) {
         return false;
     }
     let pixel = vec2<u32>(max(xy - draw.viewport_origin, vec2<f32>(0.0)));
-    let below = bayer_threshold(pixel) < draw.dither_threshold;
-    return below != (draw.dither_mode == 1u);
+    let below = bayer_threshold(pixel) < threshold;
+    return below != (mode == 1u);
 }
 
 fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
@@ -180,13 +181,19 @@ fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
 
 @fragment
 fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return shade(in, front, draw.opacity, draw.dither_mode, draw.dither_threshold, draw.tint);
+}
+
+// The lit surface colour of a fragment with the draw's opacity, screen-door mask and level tint
+// (from the `Draw` uniform for one character, from the instance record in a crowd).
+fn shade(in: Varyings, front: bool, opacity: f32, dither_mode: u32, dither_threshold: f32, tint: vec4<f32>) -> vec4<f32> {
     // Sample first: texture sampling needs uniform control flow, before any discard.
     let texel = textureSample(base_color_texture, base_color_sampler, in.uv);
     let base = material.base_color_factor * texel * in.color;
     if (base.a < material.alpha_cutoff) {
         discard;
     }
-    if (dithered_out(in.clip.xy)) {
+    if (dithered_out(in.clip.xy, dither_mode, dither_threshold)) {
         discard;
     }
     var n = normalize(in.normal);
@@ -202,18 +209,18 @@ fn fs_main(in: Varyings, @builtin(front_facing) front: bool) -> @location(0) vec
     // A little Blinn-Phong: exponent 32 and strength 0.12 keep skin and cloth from looking plastic.
     let specular = select(0.0, 0.12 * pow(max(dot(n, h), 0.0), 32.0), n_dot_l > 0.0);
     // The level overlay's tint replaces part of the surface colour (strength 0 without it).
-    let albedo = mix(base.rgb, draw.tint.rgb, draw.tint.w);
+    let albedo = mix(base.rgb, tint.rgb, tint.w);
     var rgb = albedo * (ambient + n_dot_l * camera.light_dir.w) + vec3<f32>(specular * camera.light_dir.w);
     if (camera.encode_srgb == 1u) {
         rgb = srgb_encode(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)));
     }
-    return vec4<f32>(rgb, draw.opacity);
+    return vec4<f32>(rgb, opacity);
 }
 
 // Wireframe lines: near-black, half covering the shading, faded with their draw.
 @fragment
 fn fs_wire(in: Varyings) -> @location(0) vec4<f32> {
-    if (dithered_out(in.clip.xy)) {
+    if (dithered_out(in.clip.xy, draw.dither_mode, draw.dither_threshold)) {
         discard;
     }
     var rgb = vec3<f32>(0.01, 0.012, 0.02);

@@ -8,6 +8,10 @@ use bytemuck::{Pod, Zeroable};
 /// The skinning shader, validated by `tests/shaders.rs`.
 pub const SKIN_WGSL: &str = include_str!("skin.wgsl");
 
+/// The crowd's shader: `skin.wgsl` with `crowd.wgsl`'s instanced entry points appended (they
+/// share its bindings, vertex layouts and fragment shading); validated by `tests/shaders.rs`.
+pub const CROWD_WGSL: &str = concat!(include_str!("skin.wgsl"), include_str!("crowd.wgsl"));
+
 /// Joint matrices per draw. 256 `mat4x4<f32>` are 16 KiB, WebGL2's guaranteed uniform block
 /// size; WebGPU uses the same uniform buffer so both backends do the same work. Must equal
 /// `MAX_JOINTS` in `skin.wgsl`.

@@ -29,6 +29,7 @@ use crate::clod::{self, Clod, ClodOptions};
 use crate::import;
 use crate::js_options;
 use crate::render::camera::OrbitCamera;
+use crate::render::crowd::{Crowd, PosePalette};
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
 use crate::render::meter::{frame_difference, MeterSample, TransitionMeter};
@@ -442,10 +443,18 @@ impl Inner {
             None => 0.0,
         };
         self.last_now_ms = Some(now_ms);
+        self.sync_crowd();
         self.model.advance(dt);
         self.upload_continuous();
         self.upload_morph_pairs();
-        self.camera_raw = camera_raw(&self.model.camera, self.model.layout.views[0].aspect());
+        self.camera_raw = match &self.model.crowd {
+            Some(c) => {
+                self.renderer.set_crowd_palette(&c.palette);
+                self.renderer.set_crowd_instances(&c.frame);
+                crowd_camera_raw(&c.crowd)
+            }
+            None => camera_raw(&self.model.camera, self.model.layout.views[0].aspect()),
+        };
         let pose = match self.model.settings.clip.and_then(|c| self.character.clips.get(c)) {
             Some(clip) => self.character.pose_at(clip, self.model.anim_time as f32),
             None => self.character.skeleton.rest_pose(),
@@ -455,6 +464,26 @@ impl Inner {
         let model_from_node = skeleton.model_from_node(&pose);
         self.skin = skeleton.skin_matrices(&model_from_node);
         self.bones = bone_segments(skeleton, &model_from_node);
+    }
+
+    /// Starts or stops crowd mode as the settings ask, and samples the pose palette again when
+    /// the clip changes.
+    fn sync_crowd(&mut self) {
+        let clip = self.model.settings.clip;
+        match (self.model.settings.crowd, &self.model.crowd) {
+            (true, None) => {
+                let triangles = self.lod.levels.iter().map(|l| l.triangle_count()).collect();
+                self.model.start_crowd(PosePalette::sample(&self.character, clip), triangles);
+            }
+            (true, Some(c)) if c.palette.clip != clip => {
+                self.model.set_crowd_palette(PosePalette::sample(&self.character, clip));
+            }
+            (false, Some(_)) => {
+                self.model.crowd = None;
+                self.renderer.drop_crowd();
+            }
+            _ => {}
+        }
     }
 
     /// Keeps the renderer's continuous levels on the slider's two states: the finer one paired
@@ -496,13 +525,16 @@ impl Inner {
     /// What the renderer draws this frame: camera, skin and bone matrices, each view's plan.
     fn frame_input(&self) -> FrameInput<'_> {
         let m = &self.model;
+        let crowd = m.crowd.as_ref().map(|c| &c.frame);
         FrameInput {
             camera: self.camera_raw,
             skin: &self.skin,
-            bones: &self.bones,
+            // The skeleton is one pose in model space: the single character's overlay only.
+            bones: if crowd.is_some() { &[] } else { &self.bones },
             views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
             overlay: m.settings.overlay,
             meter: None,
+            crowd,
         }
     }
 
@@ -622,8 +654,12 @@ impl Inner {
         let views: Vec<String> = state
             .views
             .iter()
-            .map(|view| {
-                let triangles: usize = view.drawn.iter().map(|&l| self.level_triangles(l)).sum();
+            .enumerate()
+            .map(|(i, view)| {
+                let triangles: usize = match &m.crowd {
+                    Some(c) => c.frame.stats.triangles.get(i).copied().unwrap_or(0),
+                    None => view.drawn.iter().map(|&l| self.level_triangles(l)).sum(),
+                };
                 let (shown, r) = (view.transition, view.rect);
                 format!(
                     "{{\"method\":{},\"level\":{},\"to\":{},\"t\":{},\"triangles\":{},\"draws\":{},\"rect\":[{},{},{},{}]}}",
@@ -651,7 +687,7 @@ impl Inner {
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
                 "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
-                "\"errors\":[{}],\"warnings\":[{}]}}"
+                "\"mode\":{},\"crowd\":{},\"errors\":[{}],\"warnings\":[{}]}}"
             ),
             json_str(self.renderer.backend),
             json_str(&self.renderer.adapter_name),
@@ -692,8 +728,28 @@ impl Inner {
             m.layout.stacked,
             views.join(","),
             self.frames,
+            json_str(if s.crowd { "crowd" } else { "single" }),
+            self.crowd_json(),
             list(&self.errors),
             list(&self.warnings),
+        )
+    }
+
+    /// `state().crowd`: what the crowd shows this frame, or null outside crowd mode.
+    fn crowd_json(&self) -> String {
+        let Some(c) = &self.model.crowd else { return "null".into() };
+        let st = &c.frame.stats;
+        let list = |v: &[usize]| v.iter().map(usize::to_string).collect::<Vec<_>>().join(",");
+        format!(
+            "{{\"instances\":{},\"drawn\":{},\"perLevel\":[{}],\"transitions\":{},\"trianglesDrawn\":{},\"trianglesFull\":{},\"viewTriangles\":[{}],\"paletteRows\":{}}}",
+            st.instances,
+            st.drawn,
+            list(&st.per_level),
+            st.transitions,
+            st.triangles.iter().sum::<usize>(),
+            st.triangles_full * st.triangles.len(),
+            list(&st.triangles),
+            c.palette.rows,
         )
     }
 }
@@ -701,12 +757,22 @@ impl Inner {
 /// The shared camera and lights. The key light sits above-right of the camera, so the lit side
 /// faces the viewer whatever the yaw; colours are linear.
 fn camera_raw(camera: &OrbitCamera, aspect: f32) -> CameraRaw {
-    let eye = camera.eye();
-    let forward = (camera.target - eye).normalize_or(Vec3::NEG_Z);
+    lit_camera(camera.clip_from_model(aspect), camera.eye(), camera.target)
+}
+
+/// The crowd's camera (`clip_from_world`, the eye in world space), lit as the single view is.
+fn crowd_camera_raw(crowd: &Crowd) -> CameraRaw {
+    lit_camera(crowd.clip_from_world, crowd.eye, crowd.eye + crowd.forward())
+}
+
+/// A camera at `eye` looking towards `target` with the viewer's lights: the key light above-right
+/// of the camera, a sky-and-ground hemisphere; linear colours.
+fn lit_camera(clip_from_model: Mat4, eye: Vec3, target: Vec3) -> CameraRaw {
+    let forward = (target - eye).normalize_or(Vec3::NEG_Z);
     let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
     let light = (-forward + 0.9 * Vec3::Y + 0.5 * right).normalize();
     CameraRaw {
-        clip_from_model: camera.clip_from_model(aspect).to_cols_array_2d(),
+        clip_from_model: clip_from_model.to_cols_array_2d(),
         eye_model: eye.extend(1.0).to_array(),
         light_dir: light.extend(0.85).to_array(),
         sky_color: [0.40, 0.44, 0.52, 1.0],

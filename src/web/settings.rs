@@ -6,13 +6,14 @@ use wasm_bindgen::{JsCast, JsValue};
 
 use crate::js_options::entries;
 use crate::render::camera;
+use crate::render::crowd::MAX_INSTANCES;
 use crate::render::plan::{BlendVariant, Method};
 use crate::render::viewer::settings::{
     method_named, overlay_named, variant_named, DistanceMode, Update, METHOD_NAMES, OVERLAY_NAMES,
     VARIANT_NAMES,
 };
 
-const KEYS: [&str; 23] = [
+const KEYS: [&str; 25] = [
     "paused",
     "time",
     "speed",
@@ -36,6 +37,8 @@ const KEYS: [&str; 23] = [
     "methods",
     "continuousTriangles",
     "overlay",
+    "mode",
+    "count",
 ];
 
 /// Reads a `setState` object.
@@ -134,6 +137,14 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                     Some(if v.is_null() { None } else { Some(v.number(1.0, 1e9)? as u32) })
             }
             "overlay" => u.overlay = Some(v.choice(&OVERLAY_NAMES, overlay_named)?),
+            "mode" => {
+                u.crowd = Some(v.choice(&["single", "crowd"], |n| match n {
+                    "single" => Some(false),
+                    "crowd" => Some(true),
+                    _ => None,
+                })?)
+            }
+            "count" => u.crowd_count = Some(v.number(1.0, MAX_INSTANCES as f64)?.round() as usize),
             _ => unreachable!("entries() checked the key against KEYS"),
         }
     }

@@ -18,6 +18,24 @@ pub const METER_HEIGHT: u32 = 256;
 /// Readbacks in flight at once: a map resolves a frame or two after its submit.
 const IN_FLIGHT: usize = 3;
 
+/// What one meter picture draws: a view's plan, or a crowd view's instanced draws.
+enum Picture<'a> {
+    Plan(&'a ViewPlan),
+    Crowd(&'a [crate::render::crowd::InstancedDraw]),
+}
+
+impl Picture<'_> {
+    /// Whether two pictures draw the same pixels: equal plans, or the same crowd records (crowd
+    /// views with one method hold equal records at different places, so they are drawn apart).
+    fn same_pixels(&self, other: &Picture) -> bool {
+        match (self, other) {
+            (Picture::Plan(a), Picture::Plan(b)) => a.draws == b.draws,
+            (Picture::Crowd(a), Picture::Crowd(b)) => a == b,
+            _ => false,
+        }
+    }
+}
+
 /// The pictures of one measured frame, RGBA8 or BGRA8 (the channel order does not matter to the
 /// difference), rows top first: `pictures[0]` is the reference, `pictures[view_picture[i]]` view
 /// `i`'s (views with the same plan, and views at rest on level 0, share a picture: they are the
@@ -109,26 +127,38 @@ impl Renderer {
         }
         let meter = cache.as_mut().expect("just made");
         let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
-        let reference = plan_view(Method::Popping, &Transition::at(0));
-        // Each distinct plan once: at rest every view draws the same, often level 0 itself.
-        let mut plans: Vec<&ViewPlan> = vec![&reference];
+        let reference_plan = plan_view(Method::Popping, &Transition::at(0));
+        let reference = match frame.crowd {
+            Some(crowd) => Picture::Crowd(&crowd.reference),
+            None => Picture::Plan(&reference_plan),
+        };
+        // Each distinct picture once: at rest every view draws the same, often level 0 itself.
+        let mut plans: Vec<Picture> = vec![reference];
         let view_picture: Vec<usize> = frame.views[..views]
             .iter()
-            .map(|(_, plan)| {
-                plans.iter().position(|p| p.draws == plan.draws).unwrap_or_else(|| {
-                    plans.push(plan);
+            .enumerate()
+            .map(|(i, (_, plan))| {
+                let picture = match frame.crowd {
+                    Some(crowd) => Picture::Crowd(crowd.views.get(i).map_or(&[], Vec::as_slice)),
+                    None => Picture::Plan(plan),
+                };
+                plans.iter().position(|p| p.same_pixels(&picture)).unwrap_or_else(|| {
+                    plans.push(picture);
                     plans.len() - 1
                 })
             })
             .collect();
         let clear = wgpu::Color { a: 0.0, ..frame_targets::background_for(self.color_format) };
-        for (i, plan) in plans.iter().enumerate() {
+        for (i, picture) in plans.iter().enumerate() {
             let (color, resolve) = match &meter.msaa {
                 Some(msaa) => (msaa, Some(&meter.views[i])),
                 None => (&meter.views[i], None),
             };
             let mut pass = frame_targets::begin_pass(encoder, color, resolve, Some(&meter.depth), clear);
-            self.draw_view(&mut pass, plan, Overlay::None, [0.0; 2], slot);
+            match picture {
+                Picture::Plan(plan) => self.draw_view(&mut pass, plan, Overlay::None, [0.0; 2], slot),
+                Picture::Crowd(draws) => self.draw_crowd_view(&mut pass, draws, [0.0; 2], slot),
+            }
         }
         let Some(tag) = tag.filter(|_| meter.in_flight.len() < IN_FLIGHT) else { return view_picture };
         let row = padded_row(meter.width);

@@ -17,6 +17,7 @@ use thiserror::Error;
 use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
+mod crowd;
 mod difference;
 mod frame_targets;
 mod meter;
@@ -31,11 +32,12 @@ use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTar
 use pipelines::{create_pipelines, BindLayouts, Pipelines};
 use resources::{uniform_buffer, upload_level, upload_materials};
 
+use super::crowd::{CrowdFrame, InstanceRaw, INSTANCE_OFFSETS};
 use super::layout::Rect;
 use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
 use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
-use super::uniforms::{CameraRaw, DrawRaw, JointsRaw, MaterialRaw, MAX_JOINTS, SKIN_WGSL};
+use super::uniforms::{CameraRaw, DrawRaw, JointsRaw, MaterialRaw, CROWD_WGSL, MAX_JOINTS, SKIN_WGSL};
 use crate::character::{AlphaMode, Character};
 
 /// Why the renderer could not start or draw.
@@ -114,6 +116,9 @@ pub struct FrameInput<'a> {
     pub overlay: Overlay,
     /// Measure this frame for the live meter, tagged with this number (see [`meter`]).
     pub meter: Option<u64>,
+    /// Crowd mode: each view draws the crowd's instanced draws instead of its plan (whose
+    /// records [`Renderer::set_crowd_instances`] has written), the meter's reference too.
+    pub crowd: Option<&'a CrowdFrame>,
 }
 
 /// Pixels read back from an offscreen render of a frame: RGBA8, sRGB-encoded, rows top first.
@@ -161,6 +166,10 @@ pub struct Renderer {
     /// The difference overlay's pipeline.
     difference: Option<difference::DifferenceGpu>,
     pipelines: Pipelines,
+    /// Kept for the pipelines made later (the crowd's).
+    layouts: BindLayouts,
+    /// The crowd's pipelines, palette and instance records, while in crowd mode.
+    crowd: Option<crowd::CrowdGpu>,
     errors: Arc<Mutex<Vec<String>>>,
     /// `webgpu` or `webgl2`, and the adapter's name.
     pub backend: &'static str,
@@ -315,6 +324,8 @@ impl Renderer {
             meter: Default::default(),
             difference,
             pipelines,
+            layouts,
+            crowd: None,
             errors,
             backend,
             adapter_name: info.name,
@@ -497,7 +508,7 @@ impl Renderer {
                 {
                     let mut pass =
                         begin_pass(&mut encoder, color, resolve_target, Some(&targets.depth), BACKGROUND);
-                    self.draw_view(&mut pass, plan, frame.overlay, [0.0; 2], &mut slot);
+                    self.draw_content(&mut pass, frame, i, plan, [0.0; 2], &mut slot);
                     heat(&mut pass, i, [0.0; 2], rect);
                     self.draw_bones(&mut pass, bones);
                 }
@@ -537,7 +548,7 @@ impl Renderer {
                     1.0,
                 );
                 pass.set_scissor_rect(rect.x, rect.y, rect.width, rect.height);
-                self.draw_view(&mut pass, plan, frame.overlay, [rect.x as f32, rect.y as f32], &mut slot);
+                self.draw_content(&mut pass, frame, i, plan, [rect.x as f32, rect.y as f32], &mut slot);
                 heat(&mut pass, i, [rect.x as f32, rect.y as f32], rect);
                 self.draw_bones(&mut pass, bones);
             }
@@ -545,6 +556,24 @@ impl Renderer {
             pass.set_scissor_rect(0, 0, fw, fh);
         }
         encoder.finish()
+    }
+
+    /// Records view `i` of `frame`: the crowd's instanced draws in crowd mode, else its `plan`.
+    fn draw_content(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        frame: &FrameInput,
+        i: usize,
+        plan: &ViewPlan,
+        origin: [f32; 2],
+        slot: &mut u64,
+    ) {
+        match frame.crowd {
+            Some(crowd) => {
+                self.draw_crowd_view(pass, crowd.views.get(i).map_or(&[], Vec::as_slice), origin, slot)
+            }
+            None => self.draw_view(pass, plan, frame.overlay, origin, slot),
+        }
     }
 
     /// Records one view's draws; `slot` counts the draw-uniform slots used so far this frame.

@@ -1,6 +1,7 @@
 //! Bind group layouts, vertex layouts and the render pipelines of `skin.wgsl`: one per pass kind,
 //! vertex shader (level or geomorph) and culling mode, the wireframe overlay's line pipelines and
-//! the skeleton overlay's.
+//! the skeleton overlay's; and the crowd's instanced twins of the shaded pipelines
+//! (`crowd.wgsl`).
 
 use super::*;
 
@@ -142,43 +143,15 @@ pub(super) fn create_pipelines(
                 module: &module,
                 entry_point: Some(fragment),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: color_format,
-                    // Colour blends as usual; alpha accumulates coverage ("over"), so a target
-                    // cleared to alpha 0 ends at alpha ≥ the most opaque layer: the live meter
-                    // reads the silhouette from it. Views cleared to alpha 1 stay at 1.
-                    blend: spec.blend.then_some(wgpu::BlendState {
-                        color: wgpu::BlendState::ALPHA_BLENDING.color,
-                        alpha: wgpu::BlendComponent::OVER,
-                    }),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[Some(color_target(color_format, spec.blend))],
             }),
             multiview_mask: None,
             cache: None,
         })
     };
-    let mut shaded = HashMap::new();
-    for pass in [PassKind::Opaque, PassKind::BlendOver, PassKind::BlendNaive] {
-        for geomorph in [false, true] {
-            for cull in [false, true] {
-                let spec = Spec {
-                    geomorph,
-                    wire: false,
-                    cull,
-                    blend: pass != PassKind::Opaque,
-                    depth_write: pass != PassKind::BlendOver,
-                    // The fading level lies on the opaque one: equal depths must pass.
-                    depth_compare: if pass == PassKind::BlendOver {
-                        wgpu::CompareFunction::LessEqual
-                    } else {
-                        wgpu::CompareFunction::Less
-                    },
-                };
-                shaded.insert((pass, geomorph, cull), create(spec));
-            }
-        }
-    }
+    let shaded = shaded_keys()
+        .map(|(pass, geomorph, cull)| ((pass, geomorph, cull), create(shaded_spec(pass, geomorph, cull))))
+        .collect();
     // Lines blend over the shading and leave depth alone, so a level fading in keeps its own.
     let wire = [false, true].map(|geomorph| {
         create(Spec {
@@ -192,6 +165,124 @@ pub(super) fn create_pipelines(
     });
     let bone = bone_pipeline(device, layouts, &module, color_format, sample_count);
     Pipelines { shaded, wire, bone }
+}
+
+/// Every shaded pipeline's key: pass kind, geomorph vertex shader, back-face culling.
+fn shaded_keys() -> impl Iterator<Item = PipelineKey> {
+    [PassKind::Opaque, PassKind::BlendOver, PassKind::BlendNaive].into_iter().flat_map(|pass| {
+        [false, true].into_iter().flat_map(move |g| [false, true].map(move |c| (pass, g, c)))
+    })
+}
+
+/// The state of a shaded pipeline of `pass`.
+fn shaded_spec(pass: PassKind, geomorph: bool, cull: bool) -> Spec {
+    Spec {
+        geomorph,
+        wire: false,
+        cull,
+        blend: pass != PassKind::Opaque,
+        depth_write: pass != PassKind::BlendOver,
+        // The fading level lies on the opaque one: equal depths must pass.
+        depth_compare: if pass == PassKind::BlendOver {
+            wgpu::CompareFunction::LessEqual
+        } else {
+            wgpu::CompareFunction::Less
+        },
+    }
+}
+
+/// The colour target of every shaded pipeline. Colour blends as usual; alpha accumulates coverage
+/// ("over"), so a target cleared to alpha 0 ends at alpha ≥ the most opaque layer: the live meter
+/// reads the silhouette from it. Views cleared to alpha 1 stay at 1.
+fn color_target(format: wgpu::TextureFormat, blend: bool) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format,
+        blend: blend.then_some(wgpu::BlendState {
+            color: wgpu::BlendState::ALPHA_BLENDING.color,
+            alpha: wgpu::BlendComponent::OVER,
+        }),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
+}
+
+/// The crowd's shaded pipelines (`crowd.wgsl`), keyed like the single character's: the level's
+/// vertices (slot 0, as [`create_pipelines`] reads them) and one [`InstanceRaw`] per instance
+/// (slot 1, locations 12..15), with the palette texture as bind group 3.
+pub(super) fn create_crowd_pipelines(
+    device: &wgpu::Device,
+    layouts: &BindLayouts,
+    palette: &wgpu::BindGroupLayout,
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+) -> HashMap<PipelineKey, wgpu::RenderPipeline> {
+    use wgpu::VertexFormat as F;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("crowd.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(CROWD_WGSL.into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("crowd"),
+        bind_group_layouts: &[
+            Some(&layouts.frame),
+            Some(&layouts.material),
+            Some(&layouts.draw),
+            Some(palette),
+        ],
+        immediate_size: 0,
+    });
+    let fine = vertex_attributes(0, 0);
+    let mut both = fine.to_vec();
+    both.extend(vertex_attributes(std::mem::size_of::<VertexRaw>() as u64, 6));
+    let formats = [F::Float32x4, F::Uint32x4, F::Float32x4, F::Float32x4];
+    let instance: Vec<wgpu::VertexAttribute> = (0..4)
+        .map(|i| wgpu::VertexAttribute {
+            format: formats[i],
+            offset: INSTANCE_OFFSETS[i],
+            shader_location: 12 + i as u32,
+        })
+        .collect();
+    let create = |spec: Spec| {
+        let buffers = [
+            Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<GeomorphVertexRaw>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: if spec.geomorph { &both } else { &fine },
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<InstanceRaw>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &instance,
+            }),
+        ];
+        let vertex = if spec.geomorph { "vs_crowd_geomorph" } else { "vs_crowd_level" };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("{vertex} fs_crowd cull={} blend={}", spec.cull, spec.blend)),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vertex),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: spec.cull.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(depth_state(spec.depth_write, spec.depth_compare)),
+            multisample: multisample_state(sample_count),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_crowd"),
+                compilation_options: Default::default(),
+                targets: &[Some(color_target(color_format, spec.blend))],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    shaded_keys().map(|key| (key, create(shaded_spec(key.0, key.1, key.2)))).collect()
 }
 
 /// Bone lines (`vs_bone`, `fs_bone`): a line list of model-space points, `BONE_VERTEX_STRIDE`

@@ -17,6 +17,7 @@ pub mod settings;
 use glam::{Vec2, Vec3};
 
 use super::camera::{self, OrbitCamera, FOVY};
+use super::crowd::{Crowd, CrowdFrame, CrowdParams, PosePalette};
 use super::layout::{layout, Layout, Rect};
 use super::plan::{plan_view, ViewPlan};
 use super::schedule::{self, advance_time, Schedule, Transition};
@@ -52,6 +53,23 @@ pub struct ViewerModel {
     pub plans: [ViewPlan; 3],
     /// Geometric error of every discrete level, finest first (model units).
     errors: Vec<f32>,
+    /// Crowd mode's state, while on (see [`ViewerModel::start_crowd`]).
+    pub crowd: Option<CrowdState>,
+}
+
+/// Seed of every crowd's layout: the same crowd on every visit and in every test.
+pub const CROWD_SEED: u64 = 2011;
+
+/// Crowd mode's state: the crowd, the pose palette its instances read, each level's triangle
+/// count and what the views draw this frame.
+#[derive(Clone, Debug)]
+pub struct CrowdState {
+    pub crowd: Crowd,
+    pub palette: PosePalette,
+    pub level_triangles: Vec<usize>,
+    pub frame: CrowdFrame,
+    /// The view aspect it was laid out for.
+    aspect: f32,
 }
 
 impl ViewerModel {
@@ -86,6 +104,7 @@ impl ViewerModel {
             canvas: (width, height),
             plans: [rest.clone(), rest.clone(), rest],
             errors: if errors.is_empty() { vec![0.0] } else { errors },
+            crowd: None,
         };
         model.advance(0.0);
         model.settle();
@@ -118,6 +137,9 @@ impl ViewerModel {
     pub fn set_levels(&mut self, errors: Vec<f32>) {
         self.errors = if errors.is_empty() { vec![0.0] } else { errors };
         self.slider = None;
+        // The crowd is laid out for the levels' switch distances: the web layer starts it again
+        // with the new levels' triangle counts.
+        self.crowd = None;
         self.schedule = Schedule::FINEST;
         self.advance(0.0);
         self.settle();
@@ -192,11 +214,78 @@ impl ViewerModel {
             }
         };
         self.plans = s.methods.map(|m| plan_view(m, &shown));
+        if self.crowd.is_some() {
+            self.step_crowd(transition_dt);
+        }
+        let s = &self.settings;
         self.camera.distance = self.distance;
         self.camera.yaw = s.yaw_degrees.to_radians();
         self.camera.pitch = s.pitch_degrees.to_radians();
         self.camera.pan = Vec2::from(s.pan) * self.framing;
         self.camera.zoom = s.magnify;
+    }
+
+    /// Starts crowd mode (or lays the crowd out again) with `palette` and the levels' triangle
+    /// counts: `settings.crowd_count` instances for the current view and switch distances, at
+    /// rest on the levels their distances select.
+    pub fn start_crowd(&mut self, palette: PosePalette, level_triangles: Vec<usize>) {
+        let aspect = self.layout.views[0].aspect();
+        let crowd = Crowd::new(
+            self.settings.crowd_count,
+            (self.camera.target, self.camera.radius),
+            &self.switch_distances(),
+            aspect,
+            palette.duration,
+            CROWD_SEED,
+        );
+        self.crowd =
+            Some(CrowdState { crowd, palette, level_triangles, frame: CrowdFrame::default(), aspect });
+        self.step_crowd(0.0);
+    }
+
+    /// Replaces the crowd's pose palette (another clip).
+    pub fn set_crowd_palette(&mut self, palette: PosePalette) {
+        if let Some(c) = &mut self.crowd {
+            c.palette = palette;
+        }
+    }
+
+    /// Steps the crowd by `dt` seconds of transition time, laying it out again first if the
+    /// count or the view's shape changed.
+    fn step_crowd(&mut self, dt: f32) {
+        let aspect = self.layout.views[0].aspect();
+        let relayout = self.crowd.as_ref().is_some_and(|c| {
+            c.crowd.instances.len() != self.settings.crowd_count || (c.aspect - aspect).abs() > 1e-3
+        });
+        if relayout {
+            let c = self.crowd.take().expect("checked");
+            self.start_crowd(c.palette, c.level_triangles);
+            return;
+        }
+        let switch = self.switch_distances();
+        let s = &self.settings;
+        let params = CrowdParams {
+            mode: s.transition_mode(),
+            hysteresis: s.hysteresis,
+            dolly: s.distance_mode == DistanceMode::Dolly,
+            dolly_period: s.dolly_period,
+            tint_levels: s.overlay == super::overlay::Overlay::Levels,
+        };
+        let methods = &s.methods[..s.view_count.clamp(1, 3)];
+        let (dolly_time, anim_time) = (self.dolly_time, self.anim_time);
+        if let Some(c) = &mut self.crowd {
+            c.frame = c.crowd.advance(
+                &params,
+                dt,
+                dolly_time,
+                anim_time,
+                aspect,
+                &switch,
+                &c.level_triangles,
+                &c.palette,
+                methods,
+            );
+        }
     }
 
     /// The slider's two states as `(finer, coarser)` triangle counts (equal at rest), when on:

@@ -57,6 +57,9 @@ pub struct Settings {
     pub view_count: usize,
     /// Drawn over every view alike.
     pub overlay: Overlay,
+    /// Crowd mode: the character instanced `crowd_count` times (see [`crate::render::crowd`]).
+    pub crowd: bool,
+    pub crowd_count: usize,
 }
 
 impl Default for Settings {
@@ -91,6 +94,8 @@ impl Default for Settings {
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             view_count: 3,
             overlay: Overlay::None,
+            crowd: false,
+            crowd_count: crate::render::crowd::DEFAULT_INSTANCES,
         }
     }
 }
@@ -137,6 +142,10 @@ pub struct Update {
     pub overlay: Option<Overlay>,
     /// `Some(None)` turns the continuous level off; counts are those of progressive-mesh states.
     pub continuous_triangles: Option<Option<u32>>,
+    /// `Some(true)`: crowd mode; `Some(false)`: the single character.
+    pub crowd: Option<bool>,
+    /// Instances of the crowd (1..=[`crate::render::crowd::MAX_INSTANCES`]).
+    pub crowd_count: Option<usize>,
 }
 
 impl Update {
@@ -174,6 +183,8 @@ impl Update {
         set!(transition_speed, self.transition_speed);
         set!(magnify, self.magnify);
         set!(meter, self.meter);
+        set!(crowd, self.crowd);
+        set!(crowd_count, self.crowd_count.map(|n| n.clamp(1, crate::render::crowd::MAX_INSTANCES)));
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
             s.distance_mode = DistanceMode::Manual;

@@ -1,0 +1,69 @@
+//! The crowd's pose palette (Larkin 2011, §2 "animation"): one clip pre-sampled at a fixed rate
+//! into rows of `model_from_bind` joint matrices, so that every instance reads its pose from the
+//! row nearest its own clip time instead of evaluating the skeleton. One row costs
+//! `joints × 64` bytes; the GPU holds the palette as an `rgba32float` texture of `4 × joints`
+//! texels by `rows` (four texels per column-major matrix), which WebGPU and WebGL2 both read with
+//! `textureLoad`.
+
+use glam::Mat4;
+
+use crate::character::Character;
+
+/// Samples per second of clip time: at 30 a pose is at most 1/60 s from the clip's own, less than
+/// a walk moves a foot by a pixel at crowd distances.
+pub const PALETTE_RATE: f32 = 30.0;
+/// Most rows: WebGL2's smallest guaranteed texture height. Longer clips are sampled more sparsely.
+pub const MAX_ROWS: usize = 2048;
+
+/// A clip sampled into rows of joint matrices (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PosePalette {
+    /// Joints per row (the character's skin joints, at least 1).
+    pub joints: usize,
+    /// Rows; row `r` is the pose at `r / rows × duration`.
+    pub rows: usize,
+    /// Seconds the rows span (0: one row, the rest pose).
+    pub duration: f32,
+    /// `rows × joints` matrices, row after row.
+    pub matrices: Vec<Mat4>,
+    /// The clip asked for (`None`: the rest pose; a clip that does not exist or lasts no time
+    /// also gives the rest pose, and is kept here so that it is not sampled again).
+    pub clip: Option<usize>,
+}
+
+impl PosePalette {
+    /// Samples `clip` of `character` (`None`, or a clip index out of range, gives the rest pose).
+    pub fn sample(character: &Character, clip: Option<usize>) -> Self {
+        let joints = character.skeleton.joints.len().max(1);
+        let clip_ref = clip.and_then(|c| character.clips.get(c)).filter(|c| c.duration() > 0.0);
+        let Some(c) = clip_ref else {
+            let mut matrices = character.skin_matrices(&character.skeleton.rest_pose());
+            matrices.resize(joints, Mat4::IDENTITY);
+            return Self { joints, rows: 1, duration: 0.0, matrices, clip };
+        };
+        let duration = c.duration();
+        let rows = ((duration * PALETTE_RATE).ceil() as usize).clamp(1, MAX_ROWS);
+        let mut matrices = Vec::with_capacity(rows * joints);
+        for r in 0..rows {
+            let mut row = character.skin_matrices(&character.pose_at(c, r as f32 / rows as f32 * duration));
+            row.resize(joints, Mat4::IDENTITY);
+            matrices.extend(row);
+        }
+        Self { joints, rows, duration, matrices, clip }
+    }
+
+    /// The row nearest clip time `time` (seconds, looping; any finite or infinite value).
+    pub fn row_at(&self, time: f64) -> u32 {
+        if self.rows <= 1 || !time.is_finite() || self.duration <= 0.0 {
+            return 0;
+        }
+        let phase = (time / f64::from(self.duration)).rem_euclid(1.0);
+        ((phase * self.rows as f64).round() as usize % self.rows) as u32
+    }
+
+    /// The palette as texels: `rows` rows of `4 × joints` RGBA32F texels, each matrix's four
+    /// columns side by side.
+    pub fn texels(&self) -> Vec<[f32; 4]> {
+        self.matrices.iter().flat_map(|m| m.to_cols_array_2d()).collect()
+    }
+}

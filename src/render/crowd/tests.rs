@@ -1,0 +1,207 @@
+use glam::camera::rh::{proj::directx, view};
+use glam::{Mat4, Vec3};
+
+use super::*;
+use crate::render::plan::{BlendVariant, PassKind};
+use crate::render::schedule::TransitionMode;
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+/// A character of radius 1 at the origin whose 4 levels switch at 0, 20, 40 and 80 units.
+const SWITCH: [f32; 4] = [0.0, 20.0, 40.0, 80.0];
+const TRIANGLES: [usize; 4] = [1000, 500, 250, 125];
+const METHODS: [Method; 3] =
+    [Method::Popping, Method::AlphaBlend(BlendVariant::OpaqueFirst), Method::Geomorph];
+
+fn palette() -> PosePalette {
+    PosePalette { joints: 1, rows: 30, duration: 1.0, matrices: vec![Mat4::IDENTITY; 30], clip: Some(0) }
+}
+
+fn params() -> CrowdParams {
+    CrowdParams {
+        mode: TransitionMode::Time { seconds: 0.5 },
+        hysteresis: 0.1,
+        dolly: true,
+        dolly_period: 16.0,
+        tint_levels: false,
+    }
+}
+
+fn crowd(count: usize, seed: u64) -> Crowd {
+    Crowd::new(count, (Vec3::new(0.0, 1.0, 0.0), 1.0), &SWITCH, 0.6, 1.0, seed)
+}
+
+/// Runs `seconds` of frames at 30 fps and returns the last frame.
+fn run(c: &mut Crowd, seconds: f32, methods: &[Method]) -> CrowdFrame {
+    let mut frame = CrowdFrame::default();
+    let steps = (seconds * 30.0) as usize;
+    for s in 0..=steps {
+        let time = f64::from(s as f32 / 30.0);
+        frame = c.advance(&params(), 1.0 / 30.0, time, time, 0.6, &SWITCH, &TRIANGLES, &palette(), methods);
+    }
+    frame
+}
+
+#[test]
+fn a_seed_gives_the_same_crowd_and_frames() {
+    let (mut a, mut b) = (crowd(300, 7), crowd(300, 7));
+    assert_eq!(a, b);
+    assert_eq!(run(&mut a, 3.0, &METHODS), run(&mut b, 3.0, &METHODS));
+    assert_ne!(crowd(300, 8).instances, a.instances, "another seed, another crowd");
+}
+
+#[test]
+fn the_crowd_has_its_count_and_spans_every_level() {
+    for count in [1, 100, 400, 2000] {
+        let c = crowd(count, 1);
+        assert_eq!(c.instances.len(), count);
+        if count >= 100 {
+            let levels: std::collections::BTreeSet<usize> = c.instances.iter().map(|i| i.selected).collect();
+            assert_eq!(levels.len(), SWITCH.len(), "{count} instances cover every level: {levels:?}");
+        }
+    }
+    assert_eq!(crowd(1_000_000, 1).instances.len(), MAX_INSTANCES);
+}
+
+#[test]
+fn neighbours_keep_their_distance() {
+    let c = crowd(400, 3);
+    for (k, a) in c.instances.iter().enumerate() {
+        for b in &c.instances[k + 1..] {
+            let d = (a.position - b.position).length();
+            assert!(d >= MIN_SPACING * (1.0 - 2.0 * JITTER) - 1e-4, "{d}");
+        }
+    }
+}
+
+#[test]
+fn per_level_counts_add_up_to_the_instances_drawn() {
+    let mut c = crowd(400, 5);
+    for seconds in [0.0, 1.0, 4.0, 8.0] {
+        let f = run(&mut c, seconds, &METHODS);
+        assert_eq!(f.stats.per_level.iter().sum::<usize>(), f.stats.drawn);
+        assert!(f.stats.drawn > 0 && f.stats.drawn <= f.stats.instances);
+        assert_eq!(f.views.len(), 3);
+        for view in &f.views {
+            for d in view {
+                assert!((d.first + d.count) as usize <= f.instances.len());
+            }
+        }
+        // Popping draws each visible instance once.
+        assert_eq!(f.views[0].iter().map(|d| d.count).sum::<u32>() as usize, f.stats.drawn);
+        assert_eq!(f.stats.triangles_full, f.stats.drawn * TRIANGLES[0]);
+        assert!(f.stats.triangles[0] < f.stats.triangles_full, "LOD draws fewer triangles than full detail");
+    }
+}
+
+#[test]
+fn the_dolly_makes_transitions_and_each_moves_one_level() {
+    let mut c = crowd(400, 9);
+    let mut seen = 0;
+    for s in 0..(16 * 30) {
+        let time = f64::from(s as f32 / 30.0);
+        let f = c.advance(&params(), 1.0 / 30.0, time, time, 0.6, &SWITCH, &TRIANGLES, &palette(), &METHODS);
+        seen += f.stats.transitions;
+        for i in &c.instances {
+            assert!(i.transition.from.abs_diff(i.transition.to) <= 1, "{:?}", i.transition);
+        }
+        for d in f.views.iter().flatten() {
+            if let Some(coarse) = d.morph_coarse {
+                assert_eq!(coarse, d.level + 1, "geomorphs read the level's own ancestors");
+            }
+        }
+    }
+    assert!(seen > 100, "the dolly moves instances across switch distances: {seen}");
+}
+
+#[test]
+fn views_order_opaque_draws_first_and_group_by_level() {
+    let mut c = crowd(600, 11);
+    let mut blended = false;
+    for s in 0..(8 * 30) {
+        let time = f64::from(s as f32 / 30.0);
+        let f = c.advance(&params(), 1.0 / 30.0, time, time, 0.6, &SWITCH, &TRIANGLES, &palette(), &METHODS);
+        let alpha = &f.views[1];
+        let first_blend = alpha.iter().position(|d| d.pass != PassKind::Opaque).unwrap_or(alpha.len());
+        assert!(alpha[first_blend..].iter().all(|d| d.pass != PassKind::Opaque), "{alpha:?}");
+        blended |= first_blend < alpha.len();
+        // Draws of one view cover disjoint, consecutive record ranges.
+        for view in &f.views {
+            for w in view.windows(2) {
+                assert_eq!(w[0].first + w[0].count, w[1].first);
+            }
+        }
+    }
+    assert!(blended, "alpha-blending blends during transitions");
+}
+
+#[test]
+fn one_method_in_every_view_gives_identical_records() {
+    let mut c = crowd(300, 13);
+    let f = run(&mut c, 5.0, &[Method::Geomorph; 3]);
+    let records = |v: usize| -> Vec<InstanceRaw> {
+        f.views[v]
+            .iter()
+            .flat_map(|d| f.instances[d.first as usize..(d.first + d.count) as usize].to_vec())
+            .collect()
+    };
+    assert_eq!(records(0), records(1));
+    assert_eq!(records(0), records(2));
+}
+
+#[test]
+fn frustum_test_keeps_what_is_in_front_and_culls_the_rest() {
+    let m = directx::perspective(1.0, 1.0, 0.1, 100.0) * view::look_at_mat4(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+    let planes = frustum_planes(&m);
+    assert!(sphere_visible(&planes, Vec3::new(0.0, 0.0, -10.0), 1.0));
+    assert!(!sphere_visible(&planes, Vec3::new(0.0, 0.0, 10.0), 1.0), "behind the eye");
+    assert!(!sphere_visible(&planes, Vec3::new(50.0, 0.0, -10.0), 1.0), "far to the right");
+    assert!(sphere_visible(&planes, Vec3::new(6.0, 0.0, -10.0), 1.0), "partly inside the right plane");
+    assert!(!sphere_visible(&planes, Vec3::new(0.0, 0.0, -200.0), 1.0), "past the far plane");
+}
+
+#[test]
+fn placement_turns_about_the_centre() {
+    let c = Crowd::new(1, (Vec3::new(0.5, 1.0, 0.25), 1.0), &SWITCH, 1.0, 0.0, 1);
+    let mut i = c.instances[0];
+    i.heading = 0.9;
+    let place = c.placement(&i);
+    let turn = Mat4::from_rotation_y(place.w);
+    // The character's centre lands on the instance's position.
+    let centre = turn.transform_point3(Vec3::new(0.5, 1.0, 0.25)) + place.truncate();
+    assert!((centre - i.position).length() < 1e-5, "{centre} vs {}", i.position);
+}
+
+#[test]
+fn palette_rows_loop_with_the_clip() {
+    let p = palette();
+    assert_eq!(p.row_at(0.0), 0);
+    assert_eq!(p.row_at(0.5), 15);
+    assert_eq!(p.row_at(1.0), 0);
+    assert_eq!(p.row_at(-0.25), p.row_at(0.75));
+    assert_eq!(p.row_at(f64::NAN), 0);
+    assert_eq!(p.texels().len(), 4 * 30);
+}
+
+#[test]
+fn instance_record_layout_is_what_the_vertex_layout_reads() {
+    assert_eq!(std::mem::size_of::<InstanceRaw>(), 64);
+    assert_eq!(std::mem::offset_of!(InstanceRaw, place) as u64, draws::INSTANCE_OFFSETS[0]);
+    assert_eq!(std::mem::offset_of!(InstanceRaw, ids) as u64, draws::INSTANCE_OFFSETS[1]);
+    assert_eq!(std::mem::offset_of!(InstanceRaw, params) as u64, draws::INSTANCE_OFFSETS[2]);
+    assert_eq!(std::mem::offset_of!(InstanceRaw, tint) as u64, draws::INSTANCE_OFFSETS[3]);
+}
+
+#[test]
+fn morph_zones_move_between_neighbouring_levels() {
+    let mut c = crowd(300, 17);
+    let zones = CrowdParams { mode: TransitionMode::Distance { zone: 0.25 }, ..params() };
+    let mut seen = 0;
+    for s in 0..(16 * 30) {
+        let time = f64::from(s as f32 / 30.0);
+        let f = c.advance(&zones, 1.0 / 30.0, time, time, 0.6, &SWITCH, &TRIANGLES, &palette(), &METHODS);
+        seen += f.stats.transitions;
+        assert!(c.instances.iter().all(|i| i.transition.to <= i.transition.from + 1));
+    }
+    assert!(seen > 100, "{seen}");
+}

@@ -1,0 +1,175 @@
+//! The crowd's GPU side: the pose palette as an `rgba32float` texture (bind group 3 of
+//! `crowd.wgsl`), one vertex buffer of instance records rewritten each frame, and the instanced
+//! draws of a view: per [`InstancedDraw`], the level's own vertex and index buffers, the
+//! records' range as the instance buffer, one `draw_indexed` per material range.
+
+use super::*;
+use crate::render::crowd::{CrowdFrame, InstanceRaw, InstancedDraw, PosePalette};
+use pipelines::create_crowd_pipelines;
+
+/// Records the instance buffer holds at first; it doubles when a frame needs more.
+const FIRST_CAPACITY: u64 = 1024;
+
+pub(super) struct CrowdGpu {
+    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    palette_layout: wgpu::BindGroupLayout,
+    palette_group: wgpu::BindGroup,
+    /// What the palette texture holds: joints, rows and clip.
+    palette_key: (usize, usize, Option<usize>),
+    instances: wgpu::Buffer,
+    /// Records `instances` holds.
+    capacity: u64,
+}
+
+fn palette_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("crowd palette"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Texture {
+                // Read with textureLoad only: 32-bit floats need not be filterable.
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    })
+}
+
+fn palette_group(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    layout: &wgpu::BindGroupLayout,
+    palette: &PosePalette,
+) -> wgpu::BindGroup {
+    let texture = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("crowd palette"),
+            size: wgpu::Extent3d {
+                width: 4 * palette.joints as u32,
+                height: palette.rows as u32,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&palette.texels()),
+    );
+    let view = texture.create_view(&Default::default());
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("crowd palette"),
+        layout,
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+    })
+}
+
+fn instance_buffer(device: &wgpu::Device, capacity: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("crowd instances"),
+        size: capacity * std::mem::size_of::<InstanceRaw>() as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl Renderer {
+    /// Whether the crowd's pipelines are made and its palette uploaded.
+    pub fn has_crowd(&self) -> bool {
+        self.crowd.is_some()
+    }
+
+    /// Uploads `palette` for the crowd (making the crowd's pipelines on first use); a palette
+    /// equal in joints, rows and clip to the one uploaded is not uploaded again.
+    pub fn set_crowd_palette(&mut self, palette: &PosePalette) {
+        let key = (palette.joints, palette.rows, palette.clip);
+        if let Some(crowd) = &mut self.crowd {
+            if crowd.palette_key != key {
+                crowd.palette_group =
+                    palette_group(&self.device, &self.queue, &crowd.palette_layout, palette);
+                crowd.palette_key = key;
+            }
+            return;
+        }
+        let layout = palette_layout(&self.device);
+        let pipelines = create_crowd_pipelines(
+            &self.device,
+            &self.layouts,
+            &layout,
+            self.color_format,
+            self.sample_count,
+        );
+        self.crowd = Some(CrowdGpu {
+            pipelines,
+            palette_group: palette_group(&self.device, &self.queue, &layout, palette),
+            palette_layout: layout,
+            palette_key: key,
+            instances: instance_buffer(&self.device, FIRST_CAPACITY),
+            capacity: FIRST_CAPACITY,
+        });
+    }
+
+    /// Drops the crowd's GPU state (back to the single character).
+    pub fn drop_crowd(&mut self) {
+        self.crowd = None;
+    }
+
+    /// Writes the frame's instance records (growing the buffer when they do not fit).
+    pub fn set_crowd_instances(&mut self, frame: &CrowdFrame) {
+        let Some(crowd) = &mut self.crowd else { return };
+        let needed = frame.instances.len() as u64;
+        if needed > crowd.capacity {
+            crowd.capacity = needed.next_power_of_two();
+            crowd.instances = instance_buffer(&self.device, crowd.capacity);
+        }
+        if needed > 0 {
+            self.queue.write_buffer(&crowd.instances, 0, bytemuck::cast_slice(&frame.instances));
+        }
+    }
+
+    /// Records one crowd view's instanced draws; the draw uniform carries only the view's origin
+    /// (for the dither pattern), the rest is per instance.
+    pub(super) fn draw_crowd_view(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        draws: &[InstancedDraw],
+        origin: [f32; 2],
+        slot: &mut u64,
+    ) {
+        let Some(crowd) = &self.crowd else { return };
+        let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
+        *slot += 1;
+        let raw = DrawRaw { viewport_origin: origin, opacity: 1.0, ..DrawRaw::default() };
+        self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
+        pass.set_bind_group(3, &crowd.palette_group, &[]);
+        let stride = std::mem::size_of::<InstanceRaw>() as u64;
+        for draw in draws {
+            let Some(level) = self.levels.get(draw.level) else { continue };
+            // A level's own buffer pairs each vertex with its ancestor one level coarser: the only
+            // geomorph a crowd draws.
+            if draw.morph_coarse.is_some_and(|c| c != draw.level + 1) || draw.count == 0 {
+                continue;
+            }
+            let records = u64::from(draw.first) * stride..u64::from(draw.first + draw.count) * stride;
+            pass.set_vertex_buffer(0, level.vertices.slice(..));
+            pass.set_vertex_buffer(1, crowd.instances.slice(records));
+            pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for &(first, count, material) in &level.ranges {
+                let m = &self.materials[material];
+                let key = (draw.pass, draw.morph_coarse.is_some(), !m.double_sided);
+                pass.set_pipeline(&crowd.pipelines[&key]);
+                pass.set_bind_group(1, &m.bind_group, &[]);
+                pass.draw_indexed(first..first + count, 0, 0..draw.count);
+            }
+        }
+    }
+}

@@ -1,0 +1,117 @@
+// (9) Crowd mode: the character instanced on the ground, each instance with its own level and
+// transitions (src/render/crowd/). On WebGPU and WebGL2: the crowd draws, every view shows
+// instances at several levels at once (read back: the level overlay's colours), the per-level
+// counts add up to the instances drawn, and views forced to one method are the same picture.
+// A small page and a small crowd: SwiftShader draws a few hundred thousand triangles per second.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { launch, openPage, frame, readPixels, crop, clock, savePng, SMALL_VIEWPORT } from './helpers.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+// The level overlay's colours (src/render/overlay.rs LEVEL_COLORS), linear RGB.
+const LEVEL_COLORS = [
+  [0.10, 0.30, 0.90], [0.95, 0.40, 0.05], [0.10, 0.70, 0.15], [0.85, 0.08, 0.10],
+  [0.50, 0.20, 0.80], [0.95, 0.85, 0.10], [0.05, 0.75, 0.80], [0.95, 0.45, 0.70],
+];
+
+function hue([r, g, b]) {
+  const max = Math.max(r, g, b);
+  const min = Math.min(r, g, b);
+  if (max - min < 1e-6) return null;
+  let h;
+  if (max === r) h = ((g - b) / (max - min)) % 6;
+  else if (max === g) h = (b - r) / (max - min) + 2;
+  else h = (r - g) / (max - min) + 4;
+  return (h * 60 + 360) % 360;
+}
+
+const LEVEL_HUES = LEVEL_COLORS.map(hue);
+
+// Pixels of an RGBA crop whose hue is within 10° of a level colour's (saturated pixels only: the
+// grey background and unlit shadows do not count), per level.
+function levelPixels(rgba, levels) {
+  const counts = new Array(levels).fill(0);
+  for (let i = 0; i < rgba.length; i += 4) {
+    const c = [rgba[i] / 255, rgba[i + 1] / 255, rgba[i + 2] / 255];
+    const max = Math.max(...c);
+    if (max < 0.2 || (max - Math.min(...c)) / max < 0.45) continue;
+    const h = hue(c);
+    let best = -1;
+    let bestDistance = 10;
+    for (let l = 0; l < levels; l++) {
+      const d = Math.min(Math.abs(h - LEVEL_HUES[l]), 360 - Math.abs(h - LEVEL_HUES[l]));
+      if (d < bestDistance) { best = l; bestDistance = d; }
+    }
+    if (best >= 0) counts[best]++;
+  }
+  return counts;
+}
+
+// A crowd at rest: the camera still at the crowd's front, the animation paused, a strict
+// threshold so that the rows span several levels in a view of this size.
+const CROWD = { mode: 'crowd', count: 120, overlay: 'levels', meter: false, tolerance: 0.1, paused: true, time: 0.3, distanceMode: 'manual' };
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`${backend}: the crowd draws instances at several levels in every view, and its counts add up`, async () => {
+    const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
+    const c = clock();
+    let state = await frame(page, c.now, CROWD);
+    // Let any transition from the first frame finish.
+    for (let i = 0; i < 3; i++) state = await frame(page, c.tick(400));
+    assert.equal(state.errors.length, 0, state.errors.join('\n'));
+    assert.equal(state.mode, 'crowd');
+    assert.equal(state.backend, backend);
+    const crowd = state.crowd;
+    assert.equal(crowd.instances, 120);
+    assert.ok(crowd.drawn > 0 && crowd.drawn < crowd.instances, `frustum culling keeps some, not all: ${crowd.drawn}`);
+    assert.equal(crowd.perLevel.reduce((a, b) => a + b, 0), crowd.drawn, `per level ${crowd.perLevel} vs ${crowd.drawn} drawn`);
+    const occupied = crowd.perLevel.map((n, l) => [n, l]).filter(([n]) => n > 0).map(([, l]) => l);
+    assert.ok(occupied.length >= 3, `instances at ${occupied.length} levels: ${crowd.perLevel}`);
+    assert.ok(crowd.trianglesDrawn * 3 < crowd.trianglesFull, `LOD draws ${crowd.trianglesDrawn} of ${crowd.trianglesFull} triangles`);
+    const pixels = await readPixels(page);
+    await savePng(`/tmp/clod-crowd-${backend}.png`, pixels);
+    for (const view of state.views) {
+      const counts = levelPixels(crop(pixels, view.rect), state.levels.length);
+      const seen = occupied.filter((l) => counts[l] >= 20);
+      assert.ok(seen.length >= 2, `${view.method} view shows levels ${seen} (pixels per level colour ${counts}; occupied ${occupied})`);
+      // Shading moves some hues towards a neighbouring level's colour: the occupied levels'
+      // colours must still be most of what is seen.
+      const total = counts.reduce((a, b) => a + b, 0);
+      const inOccupied = occupied.reduce((a, l) => a + counts[l], 0);
+      assert.ok(inOccupied > 0.7 * total, `${view.method}: ${inOccupied} of ${total} tinted pixels in the occupied levels' colours (${counts})`);
+    }
+    // Back to the single character: the crowd's state is gone.
+    state = await frame(page, c.tick(100), { mode: 'single' });
+    assert.equal(state.crowd, null);
+    await page.close();
+  });
+}
+
+test('webgpu: crowd views forced to one method are the same picture, mid-transitions', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const c = clock();
+  // A fast dolly and slow transitions: many instances change level within a few frames.
+  let state = await frame(page, c.now, { ...CROWD, overlay: 'none', distanceMode: 'dolly', dollyPeriod: 4, duration: 3, transition: 'time' });
+  for (let i = 0; i < 40 && state.crowd.transitions < 3; i++) state = await frame(page, c.tick(150));
+  assert.ok(state.crowd.transitions >= 3, `transitions running: ${state.crowd.transitions}`);
+  for (const [method, variant] of [['geomorph', 'opaque-first'], ['alpha', 'opaque-first'], ['alpha', 'dither'], ['popping', 'opaque-first']]) {
+    // The same clock time: nothing moves, only the method changes.
+    state = await frame(page, c.now, { methods: [method, method, method], variant });
+    const pixels = await readPixels(page);
+    const [a, b, d] = state.views.map((v) => crop(pixels, v.rect));
+    let differing = 0;
+    for (let i = 0; i < a.length; i++) if (a[i] !== b[i] || a[i] !== d[i]) differing++;
+    assert.equal(differing, 0, `${method} (${variant}): ${differing} channel values differ between the views`);
+  }
+  // And the methods differ from one another while transitions run (the comparison shows something).
+  state = await frame(page, c.now, { methods: ['popping', 'alpha', 'geomorph'], variant: 'opaque-first' });
+  const pixels = await readPixels(page);
+  const [pop, , morph] = state.views.map((v) => crop(pixels, v.rect));
+  let changed = 0;
+  for (let i = 0; i < pop.length; i++) if (pop[i] !== morph[i]) changed++;
+  assert.ok(changed > 0, 'popping and geomorphing draw different pictures mid-transition');
+  await page.close();
+});
