@@ -260,6 +260,12 @@ function showStats() {
     ['Pop spike', spike ? formatSpike(spike) : measuring ? 'measuring…' : 'press “Measure pop spike” (the views pause for a few seconds)'],
   ];
   if (s.crowd) rows.splice(1, 0, ['Crowd', crowdText(s.crowd)]);
+  if (s.crowd && s.meter.on && s.meter.changes.length) {
+    // Many transitions at once: how much each view's difference from full detail jumps between
+    // frames (popping's peak is a whole change in one frame; a geomorph spreads it).
+    rows.splice(2, 0, ['Crowd meter', s.meter.changes.map((c, i) =>
+      `${s.views[i]?.method}: silhouette change ${c.silhouetteMean.toFixed(3)} % per frame, peak ${c.silhouettePeak.toFixed(3)} %`).join(' · ')]);
+  }
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
   rows.push(['Meter', s.meter.on ? `measured at ${s.meter.size.join(' × ')} px per view, ${s.meter.transitions} transitions` : 'off']);
   drawMeterChart();

@@ -140,6 +140,46 @@ impl TransitionMeter {
         self.previous = Some(sample);
         completed
     }
+
+    /// How each view's difference from the reference changed from frame to frame over the
+    /// history (consecutive frames only): the mean and the largest `|Δ|` per channel. This is the
+    /// crowd's meter, where many transitions overlap and none is "the last": popping's changes
+    /// land in single frames (a high peak), a geomorph's are spread over many (a low one), and the
+    /// animation's own motion adds the same to every view.
+    pub fn changes(&self) -> Vec<Change> {
+        let views = self.history.back().map_or(0, |s| s.views.len());
+        let mut out = vec![Change::default(); views];
+        let mut pairs = 0usize;
+        for (a, b) in self.history.iter().zip(self.history.iter().skip(1)) {
+            if b.frame != a.frame + 1 || a.views.len() != views || b.views.len() != views {
+                continue;
+            }
+            pairs += 1;
+            for (c, (x, y)) in out.iter_mut().zip(a.views.iter().zip(&b.views)) {
+                let (ds, dc) = ((y.silhouette - x.silhouette).abs(), (y.shading - x.shading).abs());
+                c.silhouette_mean += ds;
+                c.shading_mean += dc;
+                c.silhouette_peak = c.silhouette_peak.max(ds);
+                c.shading_peak = c.shading_peak.max(dc);
+            }
+        }
+        for c in &mut out {
+            c.silhouette_mean /= pairs.max(1) as f32;
+            c.shading_mean /= pairs.max(1) as f32;
+        }
+        out
+    }
+}
+
+/// Frame-to-frame change of one view's difference from the reference (see
+/// [`TransitionMeter::changes`]): silhouette as a share of the view (0..1), shading in mean
+/// `|ΔRGB|` (0..765).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Change {
+    pub silhouette_mean: f32,
+    pub silhouette_peak: f32,
+    pub shading_mean: f32,
+    pub shading_peak: f32,
 }
 
 #[cfg(test)]
@@ -191,5 +231,24 @@ mod tests {
         assert!(meter.push(sample(7, Transition { from: 3, to: 1, t: 0.0 }, [0.6, 0.5])));
         assert_eq!((meter.transitions, meter.gaps), (2, 1));
         assert_eq!(meter.history.len(), 6);
+    }
+
+    #[test]
+    fn changes_are_the_frame_to_frame_steps_of_consecutive_frames() {
+        let mut meter = TransitionMeter::default();
+        let rest = Transition::at(0);
+        for (frame, s) in
+            [(1, [0.0, 0.0]), (2, [0.4, 0.1]), (3, [0.4, 0.2]), (5, [0.0, 0.0]), (6, [0.0, 0.3])]
+        {
+            meter.push(sample(frame, rest, s));
+        }
+        let c = meter.changes();
+        // Pairs 1→2, 2→3 and 5→6 (3→5 skipped a frame).
+        assert!((c[0].silhouette_mean - 0.4 / 3.0).abs() < 1e-6, "{c:?}");
+        assert_eq!(c[0].silhouette_peak, 0.4);
+        assert!((c[1].silhouette_mean - 0.5 / 3.0).abs() < 1e-6, "{c:?}");
+        assert!((c[1].silhouette_peak - 0.3).abs() < 1e-6);
+        assert!((c[1].shading_peak - 3.0).abs() < 1e-5);
+        assert!(TransitionMeter::default().changes().is_empty());
     }
 }

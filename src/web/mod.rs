@@ -545,7 +545,12 @@ impl Inner {
         input.meter = tag;
         self.renderer.render(&input);
         if let Some(tag) = tag {
-            let transition = self.model.plans[0].transition;
+            // A crowd's transitions are its instances' (many at once): the meter records its
+            // differences and their frame-to-frame changes, not one transition's pop.
+            let transition = match &self.model.crowd {
+                Some(_) => Transition::at(0),
+                None => self.model.plans[0].transition,
+            };
             self.meter_pending.push_back((tag, self.model.dolly_time, transition));
             // Frames the GPU had no free readback for never come back.
             while self.meter_pending.len() > 8 {
@@ -581,6 +586,22 @@ impl Inner {
     /// The meter's summary for `state()`: per method, the last completed transition's pop
     /// (silhouette in percent of the view's pixels, shading in mean |ΔRGB| 0..765), or null.
     fn meter_json(&self) -> String {
+        // Per view, the frame-to-frame change of its difference over the history: silhouette in
+        // percent of the view's pixels, shading in mean |ΔRGB|.
+        let changes: Vec<String> = self
+            .meter
+            .changes()
+            .iter()
+            .map(|c| {
+                format!(
+                    "{{\"silhouetteMean\":{},\"silhouettePeak\":{},\"shadingMean\":{},\"shadingPeak\":{}}}",
+                    num(100.0 * c.silhouette_mean),
+                    num(100.0 * c.silhouette_peak),
+                    num(c.shading_mean),
+                    num(c.shading_peak)
+                )
+            })
+            .collect();
         let methods = &self.model.settings.methods[..self.model.settings.view_count];
         let by_method = |name: &str| -> String {
             let Some(last) = &self.meter.last else { return "null".into() };
@@ -599,7 +620,7 @@ impl Inner {
             )
         };
         format!(
-            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{}}}",
+            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{},\"changes\":[{}]}}",
             self.model.settings.meter,
             (crate::render::gpu::METER_HEIGHT as f32 * self.model.layout.views[0].aspect()).round(),
             crate::render::gpu::METER_HEIGHT,
@@ -609,6 +630,7 @@ impl Inner {
             by_method("popping"),
             by_method("alpha"),
             by_method("geomorph"),
+            changes.join(","),
         )
     }
 

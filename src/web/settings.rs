@@ -13,7 +13,7 @@ use crate::render::viewer::settings::{
     VARIANT_NAMES,
 };
 
-const KEYS: [&str; 25] = [
+const KEYS: [&str; 26] = [
     "paused",
     "time",
     "speed",
@@ -39,6 +39,7 @@ const KEYS: [&str; 25] = [
     "overlay",
     "mode",
     "count",
+    "crowdLod",
 ];
 
 /// Reads a `setState` object.
@@ -144,6 +145,7 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                     _ => None,
                 })?)
             }
+            "crowdLod" => u.crowd_lod = Some(v.boolean()?),
             "count" => u.crowd_count = Some(v.number(1.0, MAX_INSTANCES as f64)?.round() as usize),
             _ => unreachable!("entries() checked the key against KEYS"),
         }

@@ -77,6 +77,35 @@ pub struct Instance {
     pub transition: Transition,
 }
 
+impl Instance {
+    /// One frame of its level schedule at `distance` (model units) from the eye.
+    fn step(&mut self, params: &CrowdParams, distance: f32, switch: &[f32], dt: f32) {
+        let last = switch.len().saturating_sub(1);
+        match params.mode {
+            TransitionMode::Time { seconds } => {
+                self.selected = select_level(self.selected, distance, switch, params.hysteresis).min(last);
+                // One level per transition: a geomorph has its ancestors one level coarser in the
+                // level's own buffer, and a crowd's camera crosses one switch at a time.
+                let shown = self.transition.to;
+                let goal = if self.selected > shown {
+                    shown + 1
+                } else {
+                    self.selected.max(shown.saturating_sub(1))
+                };
+                let mut t = advance_time(self.transition, goal.min(last), seconds, dt.max(0.0));
+                (t.from, t.to) = (t.from.min(last), t.to.min(last));
+                self.transition = if t.is_running() { t } else { Transition::at(t.to) };
+            }
+            // Morph zones go from a level to the next one: the single view's schedule.
+            TransitionMode::Distance { .. } => {
+                let mut schedule = Schedule { selected: self.selected, transition: self.transition };
+                schedule.step(params.mode, distance, switch, params.hysteresis, dt);
+                (self.selected, self.transition) = (schedule.selected, schedule.transition);
+            }
+        }
+    }
+}
+
 /// Everything one crowd frame depends on besides the instances.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CrowdParams {
@@ -91,6 +120,8 @@ pub struct CrowdParams {
     pub dolly_period: f32,
     /// Level overlay: each instance tinted by the level it shows.
     pub tint_levels: bool,
+    /// Every instance at level 0, no transitions: the crowd without LOD, for comparison.
+    pub full_detail: bool,
 }
 
 /// The crowd (see the module docs).
@@ -233,28 +264,13 @@ impl Crowd {
         let forward = self.dolly_offset(params, dolly_time);
         self.place_camera(forward, aspect);
         let planes = frustum_planes(&self.clip_from_world);
-        let last = switch.len().saturating_sub(1);
         let mut visible = Vec::with_capacity(self.instances.len());
         for (index, i) in self.instances.iter_mut().enumerate() {
             let distance = self.eye.distance(i.position);
-            match params.mode {
-                TransitionMode::Time { seconds } => {
-                    i.selected = select_level(i.selected, distance, switch, params.hysteresis).min(last);
-                    // One level per transition: a geomorph has its ancestors one level coarser
-                    // in the level's own buffer, and a crowd's camera crosses one switch at a time.
-                    let shown = i.transition.to;
-                    let goal =
-                        if i.selected > shown { shown + 1 } else { i.selected.max(shown.saturating_sub(1)) };
-                    let mut t = advance_time(i.transition, goal.min(last), seconds, dt.max(0.0));
-                    (t.from, t.to) = (t.from.min(last), t.to.min(last));
-                    i.transition = if t.is_running() { t } else { Transition::at(t.to) };
-                }
-                // Morph zones go from a level to the next one: the single view's schedule.
-                TransitionMode::Distance { .. } => {
-                    let mut schedule = Schedule { selected: i.selected, transition: i.transition };
-                    schedule.step(params.mode, distance, switch, params.hysteresis, dt);
-                    (i.selected, i.transition) = (schedule.selected, schedule.transition);
-                }
+            if params.full_detail {
+                (i.selected, i.transition) = (0, Transition::at(0));
+            } else {
+                i.step(params, distance, switch, dt);
             }
             if sphere_visible(&planes, i.position, self.radius) {
                 visible.push(index);

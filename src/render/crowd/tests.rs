@@ -24,6 +24,7 @@ fn params() -> CrowdParams {
         dolly: true,
         dolly_period: 16.0,
         tint_levels: false,
+        full_detail: false,
     }
 }
 
@@ -204,4 +205,16 @@ fn morph_zones_move_between_neighbouring_levels() {
         assert!(c.instances.iter().all(|i| i.transition.to <= i.transition.from + 1));
     }
     assert!(seen > 100, "{seen}");
+}
+
+#[test]
+fn full_detail_draws_every_instance_at_level_zero() {
+    let mut c = crowd(300, 19);
+    let full = CrowdParams { full_detail: true, ..params() };
+    let f = c.advance(&full, 1.0 / 30.0, 2.0, 2.0, 0.6, &SWITCH, &TRIANGLES, &palette(), &METHODS);
+    assert_eq!(f.stats.per_level[0], f.stats.drawn);
+    assert_eq!(f.stats.transitions, 0);
+    for t in &f.stats.triangles {
+        assert_eq!(*t, f.stats.triangles_full);
+    }
 }

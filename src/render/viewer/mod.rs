@@ -270,6 +270,7 @@ impl ViewerModel {
             dolly: s.distance_mode == DistanceMode::Dolly,
             dolly_period: s.dolly_period,
             tint_levels: s.overlay == super::overlay::Overlay::Levels,
+            full_detail: !s.crowd_lod,
         };
         let methods = &s.methods[..s.view_count.clamp(1, 3)];
         let (dolly_time, anim_time) = (self.dolly_time, self.anim_time);

@@ -60,6 +60,9 @@ pub struct Settings {
     /// Crowd mode: the character instanced `crowd_count` times (see [`crate::render::crowd`]).
     pub crowd: bool,
     pub crowd_count: usize,
+    /// The crowd selects levels (true) or draws every instance at full detail (false: the
+    /// comparison that shows what LOD saves).
+    pub crowd_lod: bool,
 }
 
 impl Default for Settings {
@@ -96,6 +99,7 @@ impl Default for Settings {
             overlay: Overlay::None,
             crowd: false,
             crowd_count: crate::render::crowd::DEFAULT_INSTANCES,
+            crowd_lod: true,
         }
     }
 }
@@ -146,6 +150,7 @@ pub struct Update {
     pub crowd: Option<bool>,
     /// Instances of the crowd (1..=[`crate::render::crowd::MAX_INSTANCES`]).
     pub crowd_count: Option<usize>,
+    pub crowd_lod: Option<bool>,
 }
 
 impl Update {
@@ -184,6 +189,7 @@ impl Update {
         set!(magnify, self.magnify);
         set!(meter, self.meter);
         set!(crowd, self.crowd);
+        set!(crowd_lod, self.crowd_lod);
         set!(crowd_count, self.crowd_count.map(|n| n.clamp(1, crate::render::crowd::MAX_INSTANCES)));
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
