@@ -139,6 +139,8 @@ pub struct Crowd {
     /// `clip_from_world` of every view this frame.
     pub clip_from_world: Mat4,
     seed: u64,
+    /// Whether the last frame drew every instance at full detail.
+    full_detail: bool,
 }
 
 impl Crowd {
@@ -195,14 +197,21 @@ impl Crowd {
             eye: Vec3::ZERO,
             clip_from_world: Mat4::IDENTITY,
             seed,
+            full_detail: false,
         };
         crowd.place_camera(0.0, aspect);
-        // Start at rest on the selected levels: no transitions from the finest on the first frame.
-        for i in &mut crowd.instances {
-            i.selected = select_level(0, crowd.eye.distance(i.position), switch, 0.0);
+        crowd.settle(switch);
+        crowd
+    }
+
+    /// Puts every instance at rest on the level its distance selects: a new crowd, or LOD turned
+    /// back on, starts there rather than stepping down from the finest level one transition at a
+    /// time.
+    fn settle(&mut self, switch: &[f32]) {
+        for i in &mut self.instances {
+            i.selected = select_level(0, self.eye.distance(i.position), switch, 0.0);
             i.transition = Transition::at(i.selected);
         }
-        crowd
     }
 
     /// Unit direction the camera looks in (world space).
@@ -264,6 +273,10 @@ impl Crowd {
         let forward = self.dolly_offset(params, dolly_time);
         self.place_camera(forward, aspect);
         let planes = frustum_planes(&self.clip_from_world);
+        if self.full_detail && !params.full_detail {
+            self.settle(switch);
+        }
+        self.full_detail = params.full_detail;
         let mut visible = Vec::with_capacity(self.instances.len());
         for (index, i) in self.instances.iter_mut().enumerate() {
             let distance = self.eye.distance(i.position);

@@ -217,4 +217,8 @@ fn full_detail_draws_every_instance_at_level_zero() {
     for t in &f.stats.triangles {
         assert_eq!(*t, f.stats.triangles_full);
     }
+    // LOD back on: every instance at rest on its level at once, as a new crowd starts.
+    let f = c.advance(&params(), 1.0 / 30.0, 2.0, 2.0, 0.6, &SWITCH, &TRIANGLES, &palette(), &METHODS);
+    assert_eq!(f.stats.transitions, 0);
+    assert!(f.stats.per_level[0] < f.stats.drawn, "{:?}", f.stats.per_level);
 }
