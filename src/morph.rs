@@ -48,6 +48,14 @@ impl MorphDeltas {
         self.targets.is_empty()
     }
 
+    /// Vertex `v`'s entries as `(first, count)` (`(0, 0)` past the rows).
+    pub fn row_range(&self, v: usize) -> [u32; 2] {
+        match (self.offsets.get(v), self.offsets.get(v + 1)) {
+            (Some(&a), Some(&b)) => [a, b - a],
+            _ => [0, 0],
+        }
+    }
+
     /// Number of stored entries.
     pub fn entry_count(&self) -> usize {
         self.targets.len()

@@ -13,6 +13,7 @@ use crate::character::Character;
 use crate::clod::shading::face_normal;
 use crate::clod::{ArticulatedPm, Clod};
 use crate::mesh::PrimitiveRange;
+use crate::morph::MorphDeltas;
 use crate::progressive::PmCursor;
 
 /// One vertex's attributes as the shader reads them (`LevelVertex` in `skin.wgsl`).
@@ -26,6 +27,9 @@ pub struct VertexRaw {
     pub color: [f32; 4],
     pub joints: [u16; 4],
     pub weights: [f32; 4],
+    /// Its morph deltas: `(first entry, entry count)` in [`LodSource::morph_texels`] (`(0, 0)`
+    /// when it has none).
+    pub morph: [u32; 2],
 }
 
 /// A vertex and its ancestor (`LevelVertex` and `AncestorVertex` in `skin.wgsl`, locations 0..5
@@ -49,6 +53,8 @@ pub struct Attributes<'a> {
     /// Per id: flat-shaded, drawn with each triangle's face normal ([`crate::clod::shading`]);
     /// `None` when no vertex is.
     pub flat: Option<&'a [bool]>,
+    /// Morph deltas by id (empty: none).
+    pub morph: &'a MorphDeltas,
 }
 
 impl<'a> Attributes<'a> {
@@ -63,6 +69,7 @@ impl<'a> Attributes<'a> {
             colors: apm.colors.as_deref(),
             joints: &apm.joints,
             weights: &apm.weights,
+            morph: &apm.morph,
         }
     }
 
@@ -74,6 +81,7 @@ impl<'a> Attributes<'a> {
             color: self.colors.map_or([1.0; 4], |c| c[id].to_array()),
             joints: self.joints[id],
             weights: self.weights[id],
+            morph: self.morph.row_range(id),
         }
     }
 }
@@ -108,6 +116,24 @@ impl LevelData {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LodSource {
     pub levels: Vec<LevelData>,
+    /// Every morph delta of the source, by vertex id, two RGBA32F texels per entry: `(Δp, target)`
+    /// and `(Δn, 0)`; a vertex's [`VertexRaw::morph`] range indexes entries (empty: no morphs).
+    /// The GPU reads them from a texture ([`MORPH_TEXTURE_WIDTH`] texels wide).
+    pub morph_texels: Vec<[f32; 4]>,
+}
+
+/// Width of the morph-delta texture (texels): WebGL2's smallest guaranteed texture size, so rows
+/// of it hold 1,024 entries.
+pub const MORPH_TEXTURE_WIDTH: u32 = 2048;
+
+/// The texels of `deltas` (see [`LodSource::morph_texels`]).
+pub fn morph_texels(deltas: &MorphDeltas) -> Vec<[f32; 4]> {
+    let mut texels = Vec::with_capacity(2 * deltas.entry_count());
+    for ((&t, p), n) in deltas.targets.iter().zip(&deltas.positions).zip(&deltas.normals) {
+        texels.push([p.x, p.y, p.z, f32::from(t)]);
+        texels.push([n.x, n.y, n.z, 0.0]);
+    }
+    texels
 }
 
 impl LodSource {
@@ -123,11 +149,12 @@ impl LodSource {
             weights: &mesh.weights,
             // The full mesh draws its own normals, faceted or not.
             flat: None,
+            morph: &mesh.morph,
         };
         let ids: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
         let materials = triangle_materials(&mesh.primitives, mesh.triangle_count());
         let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0, &[]);
-        Self { levels: vec![level] }
+        Self { levels: vec![level], morph_texels: morph_texels(&mesh.morph) }
     }
 
     /// The discrete levels of an articulated progressive mesh built from `character`. Each
@@ -159,7 +186,7 @@ impl LodSource {
                 )
             })
             .collect();
-        Self { levels }
+        Self { levels, morph_texels: morph_texels(&clod.apm.morph) }
     }
 
     /// The vertices of level `fine` paired with their ancestors in level `coarse` (any coarser
@@ -400,11 +427,45 @@ mod tests {
 
     #[test]
     fn vertex_layout_matches_the_shader_locations() {
-        // gpu.rs declares these offsets for locations 0..5; 72 bytes per vertex, 144 with ancestor.
-        assert_eq!(std::mem::size_of::<VertexRaw>(), 72);
+        // gpu.rs declares these offsets for locations 0..5 (and the morph range at 12 and 13);
+        // 80 bytes per vertex, 160 with ancestor.
+        assert_eq!(std::mem::size_of::<VertexRaw>(), 80);
         assert_eq!(std::mem::offset_of!(VertexRaw, joints), 48);
         assert_eq!(std::mem::offset_of!(VertexRaw, weights), 56);
-        assert_eq!(std::mem::size_of::<GeomorphVertexRaw>(), 144);
+        assert_eq!(std::mem::offset_of!(VertexRaw, morph), 72);
+        assert_eq!(std::mem::size_of::<GeomorphVertexRaw>(), 160);
+    }
+
+    #[test]
+    fn level_vertices_carry_their_morph_rows_at_both_ends() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let normals = [Vec3::Y; 4];
+        let joints = [[0u16; 4]; 4];
+        let weights = [[1.0, 0.0, 0.0, 0.0]; 4];
+        let mut morph = MorphDeltas::default();
+        morph.push_row([]);
+        morph.push_row([(0, Vec3::X, Vec3::ZERO), (2, Vec3::Y, Vec3::Z)]);
+        morph.push_row([]);
+        morph.push_row([(1, Vec3::Z, Vec3::X)]);
+        let attributes = Attributes {
+            positions: &positions,
+            normals: &normals,
+            uvs: None,
+            colors: None,
+            joints: &joints,
+            weights: &weights,
+            flat: None,
+            morph: &morph,
+        };
+        let level = build_level(&attributes, &[3, 1, 2], &[1, 1, 2], &[0, 1, 2], &[None], 0.0, &[]);
+        let ends: Vec<_> = level.vertices.iter().map(|v| (v.fine.morph, v.coarse.morph)).collect();
+        assert_eq!(ends, [([2, 1], [0, 2]), ([0, 2], [0, 2]), ([2, 0], [2, 0])]);
+        // Two texels per entry: (Δp, target) then (Δn, 0), in entry order.
+        let texels = morph_texels(&morph);
+        assert_eq!(texels.len(), 6);
+        assert_eq!(texels[2], [0.0, 1.0, 0.0, 2.0]);
+        assert_eq!(texels[3], [0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(texels[4], [0.0, 0.0, 1.0, 1.0]);
     }
 
     #[test]
@@ -421,6 +482,7 @@ mod tests {
             joints: &joints,
             weights: &weights,
             flat: None,
+            morph: &MorphDeltas::default(),
         };
         let level = build_level(
             &attributes,

@@ -4,7 +4,8 @@
 // Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame.
 // `vs_level` draws one level as it is; `vs_geomorph` also reads each vertex's ancestor in the next
 // coarser level (the same attributes, locations 6..11), skins both and interpolates by `draw.morph_t`
-// (0 = exactly the fine level, 1 = exactly the coarse one). The `vs_wire_*` twins and `fs_wire` draw
+// (0 = exactly the fine level, 1 = exactly the coarse one). Both ends are morphed by the frame's
+// morph-target weights first (`morphed`), each with its own deltas. The `vs_wire_*` twins and `fs_wire` draw
 // the wireframe overlay from line-list index buffers over the same vertices; `vs_bone` and
 // `fs_bone` draw the skeleton overlay from a line list of posed joint positions. Lighting is in model space: a hemisphere
 // ambient plus one directional light, Lambert diffuse and a little Blinn-Phong. Colours are linear;
@@ -12,6 +13,8 @@
 
 // Must equal MAX_JOINTS in uniforms.rs: 256 mat4 fill WebGL2's minimum uniform block (16 KiB).
 const MAX_JOINTS: u32 = 256u;
+// Must equal MAX_MORPH_TARGETS in src/morph.rs: one weight each, 4 KiB of uniforms.
+const MAX_MORPH_TARGETS: u32 = 1024u;
 
 struct Camera {
     clip_from_model: mat4x4<f32>,
@@ -30,6 +33,11 @@ struct Camera {
 
 struct Joints {
     model_from_bind: array<mat4x4<f32>, MAX_JOINTS>,
+};
+
+// Morph target weights of this frame's pose, four per vec4 (std140 pads a scalar array).
+struct MorphWeights {
+    weights: array<vec4<f32>, 256>,
 };
 
 struct Material {
@@ -59,6 +67,10 @@ struct Draw {
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> joints: Joints;
+@group(0) @binding(2) var<uniform> morph_weights: MorphWeights;
+// Every morph delta by vertex id, two texels per entry: (Δp, target) and (Δn, 0), rows of
+// `textureDimensions(morph_deltas).x` texels (src/render/lod_source.rs `morph_texels`).
+@group(0) @binding(3) var morph_deltas: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> material: Material;
 @group(1) @binding(1) var base_color_texture: texture_2d<f32>;
 @group(1) @binding(2) var base_color_sampler: sampler;
@@ -71,6 +83,18 @@ struct LevelVertex {
     @location(3) color: vec4<f32>,
     @location(4) joints: vec4<u32>,
     @location(5) weights: vec4<f32>,
+};
+
+// A vertex's morph deltas: (first entry, entry count) in `morph_deltas`, for the drawn vertex
+// and its ancestor (VertexRaw::morph of each half of GeomorphVertexRaw).
+struct MorphRows {
+    @location(12) fine: vec2<u32>,
+    @location(13) coarse: vec2<u32>,
+};
+
+// The drawn vertex's row alone (levels drawn as they are).
+struct MorphRow {
+    @location(12) fine: vec2<u32>,
 };
 
 // The ancestor's attributes, in `LevelVertex`'s order, at locations 6..11.
@@ -106,21 +130,50 @@ fn finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32
     return out;
 }
 
-fn level_varyings(v: LevelVertex) -> Varyings {
+struct Morphed {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+};
+
+fn morph_texel(i: u32) -> vec4<f32> {
+    let width = textureDimensions(morph_deltas).x;
+    return textureLoad(morph_deltas, vec2<i32>(i32(i % width), i32(i / width)), 0);
+}
+
+// glTF morphing (§3.7.2.2), before skinning: p + Σ w_t Δp_t and n + Σ w_t Δn_t over the vertex's
+// entries. A vertex has at most one entry per target, hence the loop's bound.
+fn morphed(position: vec3<f32>, normal: vec3<f32>, row: vec2<u32>) -> Morphed {
+    var out = Morphed(position, normal);
+    for (var k = 0u; k < min(row.y, MAX_MORPH_TARGETS); k++) {
+        let e = row.x + k;
+        let dp = morph_texel(2u * e);
+        let dn = morph_texel(2u * e + 1u);
+        let t = min(u32(dp.w), MAX_MORPH_TARGETS - 1u);
+        let w = morph_weights.weights[t / 4u][t % 4u];
+        out.position += w * dp.xyz;
+        out.normal += w * dn.xyz;
+    }
+    return out;
+}
+
+fn level_varyings(v: LevelVertex, row: vec2<u32>) -> Varyings {
+    let b = morphed(v.position, v.normal, row);
     let m = blend_matrix(v.joints, v.weights);
-    let p = (m * vec4<f32>(v.position, 1.0)).xyz;
+    let p = (m * vec4<f32>(b.position, 1.0)).xyz;
     // No non-uniform scale in skins we accept, so the upper 3x3 transforms normals too.
-    let n = (m * vec4<f32>(v.normal, 0.0)).xyz;
+    let n = (m * vec4<f32>(b.normal, 0.0)).xyz;
     return finish(p, n, v.uv, v.color);
 }
 
-fn geomorph_varyings(v: LevelVertex, a: AncestorVertex) -> Varyings {
+fn geomorph_varyings(v: LevelVertex, a: AncestorVertex, rows: MorphRows) -> Varyings {
+    let fb = morphed(v.position, v.normal, rows.fine);
+    let cb = morphed(a.position, a.normal, rows.coarse);
     let fine = blend_matrix(v.joints, v.weights);
     let coarse = blend_matrix(a.joints, a.weights);
     let t = draw.morph_t;
     // mix(a, b, t) = a * (1 - t) + b * t: exactly a at t = 0 and exactly b at t = 1.
-    let p = mix((fine * vec4<f32>(v.position, 1.0)).xyz, (coarse * vec4<f32>(a.position, 1.0)).xyz, t);
-    let n = mix((fine * vec4<f32>(v.normal, 0.0)).xyz, (coarse * vec4<f32>(a.normal, 0.0)).xyz, t);
+    let p = mix((fine * vec4<f32>(fb.position, 1.0)).xyz, (coarse * vec4<f32>(cb.position, 1.0)).xyz, t);
+    let n = mix((fine * vec4<f32>(fb.normal, 0.0)).xyz, (coarse * vec4<f32>(cb.normal, 0.0)).xyz, t);
     return finish(p, n, mix(v.uv, a.uv, t), mix(v.color, a.color, t));
 }
 
@@ -136,23 +189,23 @@ fn pulled(v: Varyings) -> Varyings {
 }
 
 @vertex
-fn vs_level(v: LevelVertex) -> Varyings {
-    return level_varyings(v);
+fn vs_level(v: LevelVertex, row: MorphRow) -> Varyings {
+    return level_varyings(v, row.fine);
 }
 
 @vertex
-fn vs_geomorph(v: LevelVertex, a: AncestorVertex) -> Varyings {
-    return geomorph_varyings(v, a);
+fn vs_geomorph(v: LevelVertex, a: AncestorVertex, rows: MorphRows) -> Varyings {
+    return geomorph_varyings(v, a, rows);
 }
 
 @vertex
-fn vs_wire_level(v: LevelVertex) -> Varyings {
-    return pulled(level_varyings(v));
+fn vs_wire_level(v: LevelVertex, row: MorphRow) -> Varyings {
+    return pulled(level_varyings(v, row.fine));
 }
 
 @vertex
-fn vs_wire_geomorph(v: LevelVertex, a: AncestorVertex) -> Varyings {
-    return pulled(geomorph_varyings(v, a));
+fn vs_wire_geomorph(v: LevelVertex, a: AncestorVertex, rows: MorphRows) -> Varyings {
+    return pulled(geomorph_varyings(v, a, rows));
 }
 
 // 4x4 Bayer matrix, thresholds (k + 0.5) / 16 so no pixel sits exactly on 0 or 1.

@@ -5,6 +5,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+pub use crate::morph::MAX_MORPH_TARGETS;
+
 /// The skinning shader, validated by `tests/shaders.rs`.
 pub const SKIN_WGSL: &str = include_str!("skin.wgsl");
 
@@ -40,6 +42,26 @@ pub struct JointsRaw {
     pub model_from_bind: [[[f32; 4]; 4]; MAX_JOINTS],
 }
 
+/// `MorphWeights` in `skin.wgsl`: the frame's morph-target weights, target `t` at
+/// `weights[t / 4][t % 4]`, unused targets zero.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MorphWeightsRaw {
+    pub weights: [[f32; 4]; MAX_MORPH_TARGETS / 4],
+}
+
+impl MorphWeightsRaw {
+    /// The weights packed four to a vector; targets past [`MAX_MORPH_TARGETS`] are dropped (the
+    /// importer allows no more).
+    pub fn new(weights: &[f32]) -> Self {
+        let mut raw = Self::zeroed();
+        for (t, &w) in weights.iter().enumerate().take(MAX_MORPH_TARGETS) {
+            raw.weights[t / 4][t % 4] = if w.is_finite() { w } else { 0.0 };
+        }
+        raw
+    }
+}
+
 /// `Material` in `skin.wgsl`: one per glTF material (and one for the default material).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -69,9 +91,10 @@ pub struct DrawRaw {
 
 /// The WGSL struct name each mirror stands for, with the mirror's size: what `tests/shaders.rs`
 /// compares against naga's layout.
-pub const MIRRORS: [(&str, usize); 4] = [
+pub const MIRRORS: [(&str, usize); 5] = [
     ("Camera", std::mem::size_of::<CameraRaw>()),
     ("Joints", std::mem::size_of::<JointsRaw>()),
+    ("MorphWeights", std::mem::size_of::<MorphWeightsRaw>()),
     ("Material", std::mem::size_of::<MaterialRaw>()),
     ("Draw", std::mem::size_of::<DrawRaw>()),
 ];

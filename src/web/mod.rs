@@ -39,6 +39,10 @@ use crate::render::uniforms::CameraRaw;
 use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode, Update};
 use crate::render::viewer::{animated_sphere, ViewerModel};
 
+/// The warning when the morph deltas do not fit the GPU's largest texture.
+const MORPHS_DROPPED: &str =
+    "this character's morph targets have more deltas than this GPU's largest texture holds: the views draw the base shape";
+
 /// One viewer on one canvas.
 #[wasm_bindgen]
 pub struct Viewer {
@@ -71,6 +75,8 @@ struct Inner {
     meter: TransitionMeter,
     meter_pending: std::collections::VecDeque<(u64, f64, Transition)>,
     skin: Vec<Mat4>,
+    /// Morph-target weights of the same pose, one per target.
+    morph_weights: Vec<f32>,
     /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
     bones: Vec<[f32; 3]>,
     frames: u64,
@@ -132,14 +138,6 @@ impl Viewer {
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();
-        if !character.morph_targets.is_empty() {
-            // Imported and carried by every level (CPU skinning applies them), but the shaders do
-            // not apply morph weights yet: say so rather than show a face that silently stays still.
-            warnings.push(format!(
-                "{} morph targets: the viewer draws the base shape (GPU morphing is not built yet)",
-                character.morph_targets.len()
-            ));
-        }
         let prebuilt =
             js_options::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
         let later = js_options::get_string(&options, "lod").as_deref() == Some("later");
@@ -181,6 +179,9 @@ impl Viewer {
             }
             JsValue::from(error)
         })?;
+        if renderer.morphs_dropped() {
+            warnings.push(MORPHS_DROPPED.into());
+        }
         let (w, h) = renderer.size();
         let model = ViewerModel::new(animated_sphere(&character), lod.errors(), w, h);
         let clips = character.clips.iter().map(|c| c.name.clone()).collect();
@@ -196,6 +197,7 @@ impl Viewer {
             meter: TransitionMeter::default(),
             meter_pending: Default::default(),
             skin: Vec::new(),
+            morph_weights: Vec::new(),
             bones: Vec::new(),
             frames: 0,
             errors: Vec::new(),
@@ -301,6 +303,9 @@ impl Viewer {
             let lod = LodSource::from_clod(&inner.character, &chain);
             next_task().await;
             inner.renderer.set_levels(&lod).await;
+            if inner.renderer.morphs_dropped() && !inner.warnings.iter().any(|w| w == MORPHS_DROPPED) {
+                inner.warnings.push(MORPHS_DROPPED.into());
+            }
             inner.model.set_levels(lod.errors());
             inner.lod = lod;
             inner.clod = Some(chain);
@@ -455,9 +460,16 @@ impl Inner {
             }
             None => camera_raw(&self.model.camera, self.model.layout.views[0].aspect()),
         };
-        let pose = match self.model.settings.clip.and_then(|c| self.character.clips.get(c)) {
-            Some(clip) => self.character.pose_at(clip, self.model.anim_time as f32),
+        let clip = self.model.settings.clip.and_then(|c| self.character.clips.get(c));
+        let time = self.model.anim_time as f32;
+        let pose = match clip {
+            Some(clip) => self.character.pose_at(clip, time),
             None => self.character.skeleton.rest_pose(),
+        };
+        self.morph_weights = match clip {
+            _ if !self.model.settings.morphs => Vec::new(),
+            Some(clip) => self.character.morph_weights_at(clip, time),
+            None => self.character.default_morph_weights(),
         };
         // `Character::skin_matrices` in two steps, so the bones share the pose's node matrices.
         let skeleton = &self.character.skeleton;
@@ -529,6 +541,7 @@ impl Inner {
         FrameInput {
             camera: self.camera_raw,
             skin: &self.skin,
+            morph_weights: &self.morph_weights,
             // The skeleton is one pose in model space: the single character's overlay only.
             bones: if crowd.is_some() { &[] } else { &self.bones },
             views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
@@ -709,7 +722,7 @@ impl Inner {
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
                 "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
-                "\"mode\":{},\"crowd\":{},\"errors\":[{}],\"warnings\":[{}]}}"
+                "\"morphTargets\":{},\"morphs\":{},\"mode\":{},\"crowd\":{},\"errors\":[{}],\"warnings\":[{}]}}"
             ),
             json_str(self.renderer.backend),
             json_str(&self.renderer.adapter_name),
@@ -750,6 +763,8 @@ impl Inner {
             m.layout.stacked,
             views.join(","),
             self.frames,
+            self.character.morph_targets.len(),
+            s.morphs && !self.renderer.morphs_dropped(),
             json_str(if s.crowd { "crowd" } else { "single" }),
             self.crowd_json(),
             list(&self.errors),

@@ -13,7 +13,7 @@ use crate::render::viewer::settings::{
     VARIANT_NAMES,
 };
 
-const KEYS: [&str; 26] = [
+const KEYS: [&str; 27] = [
     "paused",
     "time",
     "speed",
@@ -40,6 +40,7 @@ const KEYS: [&str; 26] = [
     "mode",
     "count",
     "crowdLod",
+    "morphs",
 ];
 
 /// Reads a `setState` object.
@@ -146,6 +147,7 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
                 })?)
             }
             "crowdLod" => u.crowd_lod = Some(v.boolean()?),
+            "morphs" => u.morphs = Some(v.boolean()?),
             "count" => u.crowd_count = Some(v.number(1.0, MAX_INSTANCES as f64)?.round() as usize),
             _ => unreachable!("entries() checked the key against KEYS"),
         }

@@ -23,6 +23,7 @@ mod frame_targets;
 mod meter;
 pub use meter::{MeterFrame, METER_HEIGHT};
 mod mipmaps;
+mod morph;
 pub use mipmaps::TextureLevel;
 mod pipelines;
 mod readback;
@@ -37,7 +38,9 @@ use super::layout::Rect;
 use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
 use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
-use super::uniforms::{CameraRaw, DrawRaw, JointsRaw, MaterialRaw, CROWD_WGSL, MAX_JOINTS, SKIN_WGSL};
+use super::uniforms::{
+    CameraRaw, DrawRaw, JointsRaw, MaterialRaw, MorphWeightsRaw, CROWD_WGSL, MAX_JOINTS, SKIN_WGSL,
+};
 use crate::character::{AlphaMode, Character};
 
 /// Why the renderer could not start or draw.
@@ -108,6 +111,8 @@ type PipelineKey = (PassKind, bool, bool);
 pub struct FrameInput<'a> {
     pub camera: CameraRaw,
     pub skin: &'a [Mat4],
+    /// Morph-target weights of the same pose, one per target (fewer: the rest are 0).
+    pub morph_weights: &'a [f32],
     /// The skeleton overlay's line list (model space, two points per bone) in the same pose;
     /// drawn only with [`Overlay::Skeleton`], and only its first [`BONE_VERTICES`] points.
     pub bones: &'a [[f32; 3]],
@@ -148,6 +153,9 @@ pub struct Renderer {
     composed: bool,
     camera_buffer: wgpu::Buffer,
     joints_buffer: wgpu::Buffer,
+    morph_weights_buffer: wgpu::Buffer,
+    /// Whether the morph deltas were too many for a texture (see [`Renderer::morphs_dropped`]).
+    morphs_dropped: bool,
     draw_buffer: wgpu::Buffer,
     /// The skeleton overlay's bone lines, rewritten each frame it is shown.
     bone_buffer: wgpu::Buffer,
@@ -268,14 +276,17 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let layouts = BindLayouts::new(&device);
-        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &layouts.frame,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: joints_buffer.as_entire_binding() },
-            ],
-        });
+        let morph_weights_buffer =
+            uniform_buffer(&device, "morph weights", std::mem::size_of::<MorphWeightsRaw>() as u64);
+        let morph_deltas = morph::morph_texture(&device, &queue, &lod.morph_texels);
+        let frame_group = morph::frame_group(
+            &device,
+            &layouts.frame,
+            &camera_buffer,
+            &joints_buffer,
+            &morph_weights_buffer,
+            &morph_deltas,
+        );
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("draw"),
             layout: &layouts.draw,
@@ -313,6 +324,8 @@ impl Renderer {
             composed,
             camera_buffer,
             joints_buffer,
+            morph_weights_buffer,
+            morphs_dropped: morph_deltas.dropped,
             draw_buffer,
             bone_buffer,
             frame_group,
@@ -374,6 +387,7 @@ impl Renderer {
         self.levels = levels;
         self.continuous.clear();
         self.morph_pairs.clear();
+        self.set_morph_deltas(lod);
     }
 
     /// Uploads the continuous slider's meshes (drawn as levels `levels`, `levels + 1`, …), or
@@ -457,6 +471,12 @@ impl Renderer {
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
         self.queue.write_buffer(&self.joints_buffer, 0, bytemuck::bytes_of(&joints));
+        let weights = if self.morphs_dropped {
+            MorphWeightsRaw::new(&[])
+        } else {
+            MorphWeightsRaw::new(frame.morph_weights)
+        };
+        self.queue.write_buffer(&self.morph_weights_buffer, 0, bytemuck::bytes_of(&weights));
         let bones = if frame.overlay == Overlay::Skeleton {
             // Whole segments only (an even count), at most what the buffer holds.
             let points = &frame.bones[..frame.bones.len().min(BONE_VERTICES) & !1];

@@ -24,9 +24,25 @@ impl BindLayouts {
             count: None,
         };
         let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let vertex = wgpu::ShaderStages::VERTEX;
         let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
-            entries: &[uniform(0, both, false), uniform(1, wgpu::ShaderStages::VERTEX, false)],
+            entries: &[
+                uniform(0, both, false),
+                uniform(1, vertex, false),
+                uniform(2, vertex, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: vertex,
+                    ty: wgpu::BindingType::Texture {
+                        // Read with textureLoad only: 32-bit floats need not be filterable.
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+            ],
         });
         let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("material"),
@@ -105,9 +121,18 @@ pub(super) fn create_pipelines(
         bind_group_layouts: &[Some(&layouts.frame), Some(&layouts.material), Some(&layouts.draw)],
         immediate_size: 0,
     });
-    let fine = vertex_attributes(0, 0);
-    let mut both = fine.to_vec();
-    both.extend(vertex_attributes(std::mem::size_of::<VertexRaw>() as u64, 6));
+    // Each half's morph row (`VertexRaw::morph`) at locations 12 (drawn vertex) and 13 (ancestor).
+    let vertex_size = std::mem::size_of::<VertexRaw>() as u64;
+    let morph_row = |base: u64, location: u32| wgpu::VertexAttribute {
+        format: wgpu::VertexFormat::Uint32x2,
+        offset: base + std::mem::offset_of!(VertexRaw, morph) as u64,
+        shader_location: location,
+    };
+    let mut fine = vertex_attributes(0, 0).to_vec();
+    fine.push(morph_row(0, 12));
+    let mut both = fine.clone();
+    both.extend(vertex_attributes(vertex_size, 6));
+    both.push(morph_row(vertex_size, 13));
     let stride = std::mem::size_of::<GeomorphVertexRaw>() as u64;
     let create = |spec: Spec| {
         let attributes: &[wgpu::VertexAttribute] = if spec.geomorph { &both } else { &fine };

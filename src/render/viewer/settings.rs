@@ -63,6 +63,8 @@ pub struct Settings {
     /// The crowd selects levels (true) or draws every instance at full detail (false: the
     /// comparison that shows what LOD saves).
     pub crowd_lod: bool,
+    /// Morph targets follow the clip's weights (false: the base shape, for comparison).
+    pub morphs: bool,
 }
 
 impl Default for Settings {
@@ -100,6 +102,7 @@ impl Default for Settings {
             crowd: false,
             crowd_count: crate::render::crowd::DEFAULT_INSTANCES,
             crowd_lod: true,
+            morphs: true,
         }
     }
 }
@@ -151,6 +154,7 @@ pub struct Update {
     /// Instances of the crowd (1..=[`crate::render::crowd::MAX_INSTANCES`]).
     pub crowd_count: Option<usize>,
     pub crowd_lod: Option<bool>,
+    pub morphs: Option<bool>,
 }
 
 impl Update {
@@ -190,6 +194,7 @@ impl Update {
         set!(meter, self.meter);
         set!(crowd, self.crowd);
         set!(crowd_lod, self.crowd_lod);
+        set!(morphs, self.morphs);
         set!(crowd_count, self.crowd_count.map(|n| n.clamp(1, crate::render::crowd::MAX_INSTANCES)));
         if self.distance.is_some() && self.distance_mode.is_none() {
             // Moving the distance slider takes the camera over from the dolly.
