@@ -483,6 +483,9 @@ impl Inner {
     fn sync_crowd(&mut self) {
         let clip = self.model.settings.clip;
         match (self.model.settings.crowd, &self.model.crowd) {
+            // The crowd starts when the levels arrive: one LOD build serves every instance, and
+            // hundreds of full meshes meanwhile would only make the first frames slow.
+            (true, None) if self.lod_from.is_none() => {}
             (true, None) => {
                 let triangles = self.lod.levels.iter().map(|l| l.triangle_count()).collect();
                 self.model.start_crowd(PosePalette::sample(&self.character, clip), triangles);

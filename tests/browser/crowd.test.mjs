@@ -30,12 +30,12 @@ function hue([r, g, b]) {
 
 const LEVEL_HUES = LEVEL_COLORS.map(hue);
 
-// Pixels of an RGBA crop whose hue is within 10° of a level colour's (saturated pixels only: the
+// Pixels of an RGB crop (`crop`'s three bytes per pixel) whose hue is within 10° of a level colour's (saturated pixels only: the
 // grey background and unlit shadows do not count), per level.
-function levelPixels(rgba, levels) {
+function levelPixels(rgb, levels) {
   const counts = new Array(levels).fill(0);
-  for (let i = 0; i < rgba.length; i += 4) {
-    const c = [rgba[i] / 255, rgba[i + 1] / 255, rgba[i + 2] / 255];
+  for (let i = 0; i < rgb.length; i += 3) {
+    const c = [rgb[i] / 255, rgb[i + 1] / 255, rgb[i + 2] / 255];
     const max = Math.max(...c);
     if (max < 0.2 || (max - Math.min(...c)) / max < 0.45) continue;
     const h = hue(c);
@@ -114,4 +114,40 @@ test('webgpu: crowd views forced to one method are the same picture, mid-transit
   for (let i = 0; i < pop.length; i++) if (pop[i] !== morph[i]) changed++;
   assert.ok(changed > 0, 'popping and geomorphing draw different pictures mid-transition');
   await page.close();
+});
+
+test('crowd.html: the docs page with a crowd element loads, draws the crowd and shows its numbers', async (t) => {
+  const page = await browser.newPage({ viewport: { width: 700, height: 600 }, deviceScaleFactor: 1 });
+  t.after(() => page.close());
+  const logs = [];
+  page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
+  await page.addInitScript(() => {
+    window.__events = [];
+    for (const type of ['load', 'lod', 'error']) {
+      document.addEventListener(type, (e) => { if (e.target.localName === 'clod-viewer') window.__events.push(type); }, true);
+    }
+  });
+  await page.goto(new URL('crowd.html', (await import('./helpers.mjs')).baseUrl).href);
+  await page.waitForFunction(() => window.__events.includes('lod') || window.__events.includes('error'), null, { timeout: 180_000 });
+  assert.ok(!(await page.evaluate(() => window.__events)).includes('error'), logs.join('\n'));
+  const { state, pixels } = await page.evaluate(async () => {
+    const el = document.getElementById('crowd');
+    el.pause();
+    const state = el.renderFrame(performance.now());
+    const p = await el.readPixels();
+    return { state, pixels: { width: p.width, height: p.height, data: Array.from(p.data) } };
+  });
+  assert.equal(state.mode, 'crowd');
+  assert.equal(state.crowd.instances, 400);
+  assert.equal(state.crowd.perLevel.reduce((a, b) => a + b, 0), state.crowd.drawn);
+  for (const view of state.views) {
+    const rgb = crop(pixels, view.rect);
+    let lit = 0;
+    // Background is a flat grey: any pixel far from it is a character.
+    const bg = [rgb[0], rgb[1], rgb[2]];
+    for (let i = 0; i < rgb.length; i += 3) if (Math.abs(rgb[i] - bg[0]) + Math.abs(rgb[i + 1] - bg[1]) + Math.abs(rgb[i + 2] - bg[2]) > 30) lit++;
+    assert.ok(lit > 0.02 * (rgb.length / 3), `${view.method}: ${lit} crowd pixels`);
+  }
+  await page.waitForFunction(() => /instances in view/.test(document.getElementById('numbers').textContent), null, { timeout: 10_000 });
+  assert.deepEqual(logs, []);
 });

@@ -10,9 +10,10 @@ let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
+// Pixels that differ between two RGB crops (`crop`'s three bytes per pixel).
 function differing(a, b) {
   let n = 0;
-  for (let i = 0; i < a.length; i += 4) {
+  for (let i = 0; i < a.length; i += 3) {
     if (a[i] !== b[i] || a[i + 1] !== b[i + 1] || a[i + 2] !== b[i + 2]) n++;
   }
   return n;
