@@ -7,11 +7,14 @@
 //! build's progress reports: poses (set-up and multi-pose quadrics), simplify (collapses and
 //! progressive mesh), back-propagation, and chain (levels, Tipsify, ancestor tables).
 //! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order.
+//! `--counts` adds the collapse engine's counts of one build (`"counts": {...}`, see
+//! `simplify::PricingStats`): collapses and exact pricings.
 
 use std::time::Instant;
 
 use clod_viewer::clod::{self, ClodOptions};
 use clod_viewer::import;
+use clod_viewer::simplify::pricing_stats;
 use clod_viewer::Schedule;
 
 const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
@@ -20,10 +23,11 @@ const PHASE_MARKS: [f32; 5] = [0.0, 0.15, 0.8, 0.9, 1.0];
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let passes = args.iter().any(|a| a == "--passes");
+    let counts = args.iter().any(|a| a == "--counts");
     let schedule = if passes { Schedule::Passes } else { Schedule::Strict };
-    let files: Vec<String> = args.into_iter().filter(|a| a != "--passes").collect();
+    let files: Vec<String> = args.into_iter().filter(|a| a != "--passes" && a != "--counts").collect();
     if files.is_empty() {
-        eprintln!("usage: clod_timing [--passes] FILE.glb...");
+        eprintln!("usage: clod_timing [--passes] [--counts] FILE.glb...");
         std::process::exit(2);
     }
     for file in files {
@@ -44,12 +48,14 @@ fn main() {
         let mut best_phases = Vec::new();
         let budget = Instant::now();
         let mut builds = 0;
+        let mut one_build = None;
         while builds < 3 || budget.elapsed().as_secs_f64() < 0.5 {
             builds += 1;
             let started = Instant::now();
             // The phases end at these progress fractions (see `clod::build`); the simplifier's own
             // reports fall between 0.15 and 0.8.
             let mut marks = Vec::new();
+            let before = pricing_stats();
             let built = clod::build(&character, &options, &mut |f| {
                 if PHASE_MARKS.contains(&f) {
                     marks.push(started.elapsed());
@@ -57,6 +63,8 @@ fn main() {
             })
             .expect("build");
             let ms = started.elapsed().as_secs_f64() * 1000.0;
+            let after = pricing_stats();
+            one_build.get_or_insert((after.collapses - before.collapses, after.pricings - before.pricings));
             if ms < best {
                 best = ms;
                 best_phases = marks.windows(2).map(|w| (w[1] - w[0]).as_secs_f64() * 1000.0).collect();
@@ -68,8 +76,14 @@ fn main() {
             .zip(&best_phases)
             .map(|(name, ms)| format!("\"{name}\": {ms:.2}"))
             .collect();
+        let counts = match one_build {
+            Some((collapses, pricings)) if counts => {
+                format!(", \"counts\": {{\"collapses\": {collapses}, \"pricings\": {pricings}}}")
+            }
+            _ => String::new(),
+        };
         println!(
-            "{{\"file\": {file:?}, \"triangles\": {n}, \"ms\": {best:.2}, \"builds\": {builds}, \"phases\": {{{}}}}}",
+            "{{\"file\": {file:?}, \"triangles\": {n}, \"ms\": {best:.2}, \"builds\": {builds}, \"phases\": {{{}}}{counts}}}",
             phases.join(", ")
         );
     }

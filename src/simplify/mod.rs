@@ -25,6 +25,7 @@ mod queue;
 mod topology;
 mod vertex_quadrics;
 
+pub use collapse::{pricing_stats, PricingStats};
 pub use quadric::Quadric;
 
 use crate::progressive::ProgressiveMesh;

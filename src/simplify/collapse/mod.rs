@@ -29,7 +29,10 @@ mod apply;
 mod checks;
 mod passes;
 mod plan;
+mod stats;
 mod strict;
+
+pub use stats::{pricing_stats, PricingStats};
 
 use super::channels::Channels;
 use super::quadric::Quadric;
@@ -80,6 +83,8 @@ pub(crate) fn run(
         Schedule::Strict => engine.collapse_until(target, max_error, progress),
     };
     engine.log.stop = stop;
+    engine.stats.collapses = engine.log.steps.len() as u64;
+    stats::add(&engine.stats);
     engine.log
 }
 
@@ -171,6 +176,8 @@ struct Engine<'a> {
     second_neighbours: Vec<u32>,
     new_attributes: Vec<f32>,
     log: CollapseLog,
+    /// This run's counts, added to the process-wide ones at the end.
+    stats: PricingStats,
 }
 
 impl<'a> Engine<'a> {
@@ -252,6 +259,7 @@ impl<'a> Engine<'a> {
             second_neighbours: Vec::new(),
             new_attributes: vec![0.0; m],
             log,
+            stats: PricingStats::default(),
             classes,
         }
     }

@@ -39,6 +39,7 @@ impl Engine<'_> {
             self.u_seen[0] = true;
             self.v_partner.clear();
             self.v_partner.push(0);
+            self.stats.pricings += 1;
             return self.price(u, v, ku, kv);
         }
         let mut edge_triangles = 0;
@@ -95,6 +96,7 @@ impl Engine<'_> {
             }
             self.v_partner[iv as usize] = iu as u32;
         }
+        self.stats.pricings += 1;
         self.price(u, v, ku, kv)
     }
 
