@@ -56,7 +56,7 @@ fn skin_shader_translates_to_webgl2_glsl() {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn crowd_shader_validates_translates_and_reads_the_instance_records_rust_writes() {
     let names = entry_points(CROWD_WGSL);
-    for entry in ["fs_crowd", "vs_crowd_geomorph", "vs_crowd_level"] {
+    for entry in ["fs_crowd", "fs_ground", "vs_crowd_geomorph", "vs_crowd_level", "vs_ground"] {
         assert!(names.iter().any(|n| n == entry), "{entry} in {names:?}");
     }
     translates_to_webgl2_glsl(CROWD_WGSL);

@@ -101,3 +101,35 @@ fn fs_crowd(in: CrowdVaryings, @builtin(front_facing) front: bool) -> @location(
     v.color = in.color;
     return shade(v, front, in.params.y, in.dither_mode, in.params.z, in.tint);
 }
+
+// The ground: two triangles at the floor's height (`Crowd::ground`, world space), `w` the grid's
+// cell size. A dark ground with faint grid lines, antialiased by their screen-space width and
+// faded out where a cell gets smaller than a few pixels, so far rows stand on a plain.
+struct GroundVaryings {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ground: vec2<f32>,
+};
+
+@vertex
+fn vs_ground(@location(0) corner: vec4<f32>) -> GroundVaryings {
+    var out: GroundVaryings;
+    out.clip = camera.clip_from_model * vec4<f32>(corner.xyz, 1.0);
+    out.ground = corner.xz / corner.w;
+    return out;
+}
+
+@fragment
+fn fs_ground(in: GroundVaryings) -> @location(0) vec4<f32> {
+    let width = fwidth(in.ground);
+    // Distance to the nearest grid line in cells, over its screen-space width: 1 px wide lines.
+    let line = abs(fract(in.ground - 0.5) - 0.5) / max(width, vec2<f32>(1e-6));
+    let on_line = 1.0 - min(min(line.x, line.y), 1.0);
+    let fade = 1.0 - smoothstep(0.05, 0.3, max(width.x, width.y));
+    var rgb = mix(vec3<f32>(0.16, 0.17, 0.18), vec3<f32>(0.11, 0.12, 0.13), on_line * fade);
+    if (camera.encode_srgb == 1u) {
+        rgb = srgb_encode(rgb);
+    }
+    // The pipeline writes colour only: alpha stays the clear value, so the live meter's
+    // coverage (alpha) sees the characters, not the ground.
+    return vec4<f32>(rgb, 1.0);
+}

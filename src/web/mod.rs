@@ -37,7 +37,7 @@ use crate::render::overlay::bone_segments;
 use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
 use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode, Update};
-use crate::render::viewer::{animated_sphere, ViewerModel};
+use crate::render::viewer::{animated_bounds, animated_sphere, ViewerModel};
 
 /// The warning when the morph deltas do not fit the GPU's largest texture.
 const MORPHS_DROPPED: &str =
@@ -488,7 +488,9 @@ impl Inner {
             (true, None) if self.lod_from.is_none() => {}
             (true, None) => {
                 let triangles = self.lod.levels.iter().map(|l| l.triangle_count()).collect();
-                self.model.start_crowd(PosePalette::sample(&self.character, clip), triangles);
+                let floor =
+                    animated_bounds(&self.character).map_or(self.model.camera.target.y, |(lo, _)| lo.y);
+                self.model.start_crowd(PosePalette::sample(&self.character, clip), triangles, floor);
             }
             (true, Some(c)) if c.palette.clip != clip => {
                 self.model.set_crowd_palette(PosePalette::sample(&self.character, clip));

@@ -68,6 +68,8 @@ pub struct CrowdFrame {
     pub views: Vec<Vec<InstancedDraw>>,
     pub reference: Vec<InstancedDraw>,
     pub stats: CrowdStats,
+    /// The ground's two triangles ([`Crowd::ground`]).
+    pub ground: [[f32; 4]; 6],
 }
 
 /// Group order of a draw (see the module docs).
@@ -151,6 +153,7 @@ pub(super) fn build(
         }];
     }
     frame.stats = stats;
+    frame.ground = crowd.ground();
     frame
 }
 

@@ -138,6 +138,9 @@ pub struct Crowd {
     pub eye: Vec3,
     /// `clip_from_world` of every view this frame.
     pub clip_from_world: Mat4,
+    /// Height of the ground the instances stand on (world space): the lowest point of the
+    /// character's animated bounds; the sphere's bottom until set.
+    pub floor: f32,
     seed: u64,
     /// Whether the last frame drew every instance at full detail.
     full_detail: bool,
@@ -196,6 +199,7 @@ impl Crowd {
             far: depth,
             eye: Vec3::ZERO,
             clip_from_world: Mat4::IDENTITY,
+            floor: centre.y - radius,
             seed,
             full_detail: false,
         };
@@ -297,6 +301,20 @@ impl Crowd {
             })
             .collect();
         draws::build(self, &visible, &rows, methods, params.tint_levels, level_triangles)
+    }
+
+    /// The ground under the crowd as two triangles, `(x, y, z, grid cell)` per corner (world
+    /// space): from just behind the camera's start to past the back row, twice the wedge's width
+    /// at the back, a grid of one spacing-sized cell per instance slot.
+    pub fn ground(&self) -> [[f32; 4]; 6] {
+        let back = -(self.far + 4.0 * self.radius);
+        let front = 4.0 * self.radius;
+        let half = self.far * 2.0;
+        let cell = MIN_SPACING * self.radius;
+        let corner = |x: f32, z: f32| [x, self.floor, z, cell];
+        let (a, b, c, d) =
+            (corner(-half, front), corner(half, front), corner(half, back), corner(-half, back));
+        [a, b, c, a, c, d]
     }
 
     /// The record placing instance `i` in world space: `world = R_y(heading)(p − centre) + position`

@@ -5,7 +5,7 @@
 
 use super::*;
 use crate::render::crowd::{CrowdFrame, InstanceRaw, InstancedDraw, PosePalette};
-use pipelines::create_crowd_pipelines;
+use pipelines::{create_crowd_pipelines, create_ground_pipeline};
 
 /// Records the instance buffer holds at first; it doubles when a frame needs more.
 const FIRST_CAPACITY: u64 = 1024;
@@ -19,6 +19,9 @@ pub(super) struct CrowdGpu {
     instances: wgpu::Buffer,
     /// Records `instances` holds.
     capacity: u64,
+    ground_pipeline: wgpu::RenderPipeline,
+    /// The ground's six corners ([`CrowdFrame::ground`]), rewritten with the records.
+    ground: wgpu::Buffer,
 }
 
 fn palette_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
@@ -113,6 +116,18 @@ impl Renderer {
             palette_key: key,
             instances: instance_buffer(&self.device, FIRST_CAPACITY),
             capacity: FIRST_CAPACITY,
+            ground_pipeline: create_ground_pipeline(
+                &self.device,
+                &self.layouts,
+                self.color_format,
+                self.sample_count,
+            ),
+            ground: self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("crowd ground"),
+                size: std::mem::size_of::<[[f32; 4]; 6]>() as u64,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         });
     }
 
@@ -132,6 +147,7 @@ impl Renderer {
         if needed > 0 {
             self.queue.write_buffer(&crowd.instances, 0, bytemuck::cast_slice(&frame.instances));
         }
+        self.queue.write_buffer(&crowd.ground, 0, bytemuck::cast_slice(&frame.ground));
     }
 
     /// Records one crowd view's instanced draws; the draw uniform carries only the view's origin
@@ -149,6 +165,10 @@ impl Renderer {
         let raw = DrawRaw { viewport_origin: origin, opacity: 1.0, ..DrawRaw::default() };
         self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
         pass.set_bind_group(0, &self.frame_group, &[]);
+        // The ground first: instances in front of it pass the depth test.
+        pass.set_pipeline(&crowd.ground_pipeline);
+        pass.set_vertex_buffer(0, crowd.ground.slice(..));
+        pass.draw(0..6, 0..1);
         pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
         pass.set_bind_group(3, &crowd.palette_group, &[]);
         let stride = std::mem::size_of::<InstanceRaw>() as u64;

@@ -310,6 +310,60 @@ pub(super) fn create_crowd_pipelines(
     shaded_keys().map(|key| (key, create(shaded_spec(key.0, key.1, key.2)))).collect()
 }
 
+/// The crowd's ground (`vs_ground`, `fs_ground` in `crowd.wgsl`): a triangle list of
+/// `[x, y, z, cell]` corners, depth-tested and written like any surface, colour written but not
+/// alpha (the live meter reads coverage from alpha: the ground is background to it).
+pub(super) fn create_ground_pipeline(
+    device: &wgpu::Device,
+    layouts: &BindLayouts,
+    color_format: wgpu::TextureFormat,
+    sample_count: u32,
+) -> wgpu::RenderPipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("crowd.wgsl ground"),
+        source: wgpu::ShaderSource::Wgsl(CROWD_WGSL.into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("ground"),
+        bind_group_layouts: &[Some(&layouts.frame)],
+        immediate_size: 0,
+    });
+    let attributes =
+        [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x4, offset: 0, shader_location: 0 }];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("vs_ground fs_ground"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_ground"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: 16,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &attributes,
+            })],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            ..Default::default()
+        },
+        depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less)),
+        multisample: multisample_state(sample_count),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_ground"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: color_format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::COLOR,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// Bone lines (`vs_bone`, `fs_bone`): a line list of model-space points, `BONE_VERTEX_STRIDE`
 /// bytes each, over everything drawn before. The depth test always passes and writes nothing, so
 /// bones show through the body and leave the view's depth as the mesh made it. Its layout binds

@@ -227,10 +227,10 @@ impl ViewerModel {
 
     /// Starts crowd mode (or lays the crowd out again) with `palette` and the levels' triangle
     /// counts: `settings.crowd_count` instances for the current view and switch distances, at
-    /// rest on the levels their distances select.
-    pub fn start_crowd(&mut self, palette: PosePalette, level_triangles: Vec<usize>) {
+    /// rest on the levels their distances select, on the ground at height `floor` (model units).
+    pub fn start_crowd(&mut self, palette: PosePalette, level_triangles: Vec<usize>, floor: f32) {
         let aspect = self.layout.views[0].aspect();
-        let crowd = Crowd::new(
+        let mut crowd = Crowd::new(
             self.settings.crowd_count,
             (self.camera.target, self.camera.radius),
             &self.switch_distances(),
@@ -238,6 +238,7 @@ impl ViewerModel {
             palette.duration,
             CROWD_SEED,
         );
+        crowd.floor = floor;
         self.crowd =
             Some(CrowdState { crowd, palette, level_triangles, frame: CrowdFrame::default(), aspect });
         self.step_crowd(0.0);
@@ -259,7 +260,7 @@ impl ViewerModel {
         });
         if relayout {
             let c = self.crowd.take().expect("checked");
-            self.start_crowd(c.palette, c.level_triangles);
+            self.start_crowd(c.palette, c.level_triangles, c.crowd.floor);
             return;
         }
         let switch = self.switch_distances();
@@ -359,6 +360,14 @@ const BOUND_FRAMES_PER_CLIP: usize = 12;
 /// (sampled, with a 5 % margin for the motion between samples), so that a framed view shows the
 /// whole character, head to feet, in every pose.
 pub fn animated_sphere(character: &Character) -> (Vec3, f32) {
+    let Some((lo, hi)) = animated_bounds(character) else { return (Vec3::ZERO, 1.0) };
+    let radius = (0.5 * (hi - lo).length() * 1.05).max(1e-3);
+    (0.5 * (lo + hi), radius)
+}
+
+/// The box holding the character in its rest pose and through every clip (sampled as for
+/// [`animated_sphere`], without the margin); `None` without a finite vertex.
+pub fn animated_bounds(character: &Character) -> Option<(Vec3, Vec3)> {
     let mut lo = Vec3::MAX;
     let mut hi = Vec3::MIN;
     let mut include = |positions: Vec<Vec3>| {
@@ -374,11 +383,7 @@ pub fn animated_sphere(character: &Character) -> (Vec3, f32) {
             include(character.skinned_positions(&character.pose_at(clip, time)));
         }
     }
-    if lo.x > hi.x {
-        return (Vec3::ZERO, 1.0);
-    }
-    let radius = (0.5 * (hi - lo).length() * 1.05).max(1e-3);
-    (0.5 * (lo + hi), radius)
+    (lo.x <= hi.x).then_some((lo, hi))
 }
 
 #[cfg(test)]
