@@ -264,7 +264,7 @@ function showStats() {
     // Many transitions at once: how much each view's difference from full detail jumps between
     // frames (popping's peak is a whole change in one frame; a geomorph spreads it).
     rows.splice(2, 0, ['Crowd meter', s.meter.changes.map((c, i) =>
-      `${s.views[i]?.method}: silhouette change ${c.silhouetteMean.toFixed(3)} % per frame, peak ${c.silhouettePeak.toFixed(3)} %`).join(' · ')]);
+      `${s.views[i]?.method}: silhouette ${c.silhouettePerSecond.toFixed(2)} %/s (peak ${c.silhouettePeak.toFixed(3)} % in a frame)`).join(' · ')]);
   }
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
   rows.push(['Meter', s.meter.on ? `measured at ${s.meter.size.join(' × ')} px per view, ${s.meter.transitions} transitions` : 'off']);

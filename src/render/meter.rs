@@ -142,7 +142,8 @@ impl TransitionMeter {
     }
 
     /// How each view's difference from the reference changed from frame to frame over the
-    /// history (consecutive frames only): the mean and the largest `|Δ|` per channel. This is the
+    /// history (consecutive frames only): the mean and the largest `|Δ|` per channel, and their
+    /// sum per second of viewer time (what changes on screen per second). This is the
     /// crowd's meter, where many transitions overlap and none is "the last": popping's changes
     /// land in single frames (a high peak), a geomorph's are spread over many (a low one), and the
     /// animation's own motion adds the same to every view.
@@ -150,11 +151,13 @@ impl TransitionMeter {
         let views = self.history.back().map_or(0, |s| s.views.len());
         let mut out = vec![Change::default(); views];
         let mut pairs = 0usize;
+        let mut seconds = 0.0f64;
         for (a, b) in self.history.iter().zip(self.history.iter().skip(1)) {
             if b.frame != a.frame + 1 || a.views.len() != views || b.views.len() != views {
                 continue;
             }
             pairs += 1;
+            seconds += (b.time - a.time).max(0.0);
             for (c, (x, y)) in out.iter_mut().zip(a.views.iter().zip(&b.views)) {
                 let (ds, dc) = ((y.silhouette - x.silhouette).abs(), (y.shading - x.shading).abs());
                 c.silhouette_mean += ds;
@@ -164,8 +167,11 @@ impl TransitionMeter {
             }
         }
         for c in &mut out {
+            let per_second = if seconds > 0.0 { pairs as f32 / seconds as f32 } else { 0.0 };
             c.silhouette_mean /= pairs.max(1) as f32;
             c.shading_mean /= pairs.max(1) as f32;
+            c.silhouette_per_second = c.silhouette_mean * per_second;
+            c.shading_per_second = c.shading_mean * per_second;
         }
         out
     }
@@ -178,8 +184,11 @@ impl TransitionMeter {
 pub struct Change {
     pub silhouette_mean: f32,
     pub silhouette_peak: f32,
+    /// `Σ |Δ silhouette|` over the consecutive pairs divided by the seconds they span.
+    pub silhouette_per_second: f32,
     pub shading_mean: f32,
     pub shading_peak: f32,
+    pub shading_per_second: f32,
 }
 
 #[cfg(test)]
@@ -249,6 +258,8 @@ mod tests {
         assert!((c[1].silhouette_mean - 0.5 / 3.0).abs() < 1e-6, "{c:?}");
         assert!((c[1].silhouette_peak - 0.3).abs() < 1e-6);
         assert!((c[1].shading_peak - 3.0).abs() < 1e-5);
+        // Three pairs of 1/60 s each: the sums over 0.05 s.
+        assert!((c[0].silhouette_per_second - 0.4 / 0.05).abs() < 1e-3, "{c:?}");
         assert!(TransitionMeter::default().changes().is_empty());
     }
 }

@@ -612,11 +612,13 @@ impl Inner {
             .iter()
             .map(|c| {
                 format!(
-                    "{{\"silhouetteMean\":{},\"silhouettePeak\":{},\"shadingMean\":{},\"shadingPeak\":{}}}",
+                    "{{\"silhouetteMean\":{},\"silhouettePeak\":{},\"silhouettePerSecond\":{},\"shadingMean\":{},\"shadingPeak\":{},\"shadingPerSecond\":{}}}",
                     num(100.0 * c.silhouette_mean),
                     num(100.0 * c.silhouette_peak),
+                    num(100.0 * c.silhouette_per_second),
                     num(c.shading_mean),
-                    num(c.shading_peak)
+                    num(c.shading_peak),
+                    num(c.shading_per_second)
                 )
             })
             .collect();
