@@ -14,7 +14,8 @@ use wasm_bindgen::prelude::*;
 
 use crate::js_options::entries;
 
-use super::{json_str, num, wait_for, Inner, Viewer};
+use super::state::{json_str, num};
+use super::{wait_for, Inner, Viewer};
 use crate::render::pop_spike::SpikeMeter;
 use crate::render::schedule::{Schedule, Transition};
 use crate::render::viewer::settings::{method_name, variant_name, DistanceMode};

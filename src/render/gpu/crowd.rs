@@ -5,7 +5,8 @@
 
 use super::*;
 use crate::render::crowd::{CrowdFrame, InstanceRaw, InstancedDraw, PosePalette};
-use pipelines::{create_crowd_pipelines, create_ground_pipeline};
+use pipelines::{create_crowd_pipelines, create_ground_pipeline, float_texture_entry};
+use resources::float_texture;
 
 /// Records the instance buffer holds at first; it doubles when a frame needs more.
 const FIRST_CAPACITY: u64 = 1024;
@@ -27,17 +28,7 @@ pub(super) struct CrowdGpu {
 fn palette_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("crowd palette"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Texture {
-                // Read with textureLoad only: 32-bit floats need not be filterable.
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        }],
+        entries: &[float_texture_entry(0)],
     })
 }
 
@@ -47,26 +38,8 @@ fn palette_group(
     layout: &wgpu::BindGroupLayout,
     palette: &PosePalette,
 ) -> wgpu::BindGroup {
-    let texture = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("crowd palette"),
-            size: wgpu::Extent3d {
-                width: 4 * palette.joints as u32,
-                height: palette.rows as u32,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&palette.texels()),
-    );
-    let view = texture.create_view(&Default::default());
+    let (width, height) = (4 * palette.joints as u32, palette.rows as u32);
+    let view = float_texture(device, queue, "crowd palette", width, height, &palette.texels());
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("crowd palette"),
         layout,

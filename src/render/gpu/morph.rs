@@ -27,22 +27,10 @@ pub(super) fn morph_texture(device: &wgpu::Device, queue: &wgpu::Queue, texels: 
         data.resize(rows * MORPH_TEXTURE_WIDTH as usize, [0.0; 4]);
         (MORPH_TEXTURE_WIDTH, rows as u32, data)
     };
-    let texture = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("morph deltas"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&data),
-    );
-    MorphTexture { view: texture.create_view(&Default::default()), dropped }
+    MorphTexture {
+        view: resources::float_texture(device, queue, "morph deltas", width, height, &data),
+        dropped,
+    }
 }
 
 /// The frame bind group: camera, joints, morph weights and morph deltas.

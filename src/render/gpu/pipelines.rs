@@ -31,17 +31,7 @@ impl BindLayouts {
                 uniform(0, both, false),
                 uniform(1, vertex, false),
                 uniform(2, vertex, false),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: vertex,
-                    ty: wgpu::BindingType::Texture {
-                        // Read with textureLoad only: 32-bit floats need not be filterable.
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
+                float_texture_entry(3),
             ],
         });
         let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -71,6 +61,21 @@ impl BindLayouts {
             entries: &[uniform(0, both, true)],
         });
         Self { frame, material, draw }
+    }
+}
+
+/// A vertex shader's `rgba32float` texture at `binding` ([`super::resources::float_texture`]):
+/// read with `textureLoad` only, so 32-bit floats need not be filterable.
+pub(super) fn float_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
     }
 }
 

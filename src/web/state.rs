@@ -1,0 +1,216 @@
+//! What `viewer.state()`, `meterHistory()` and the meter report, as JSON text: the model's state
+//! ([`crate::render::viewer::ViewerModel::state`]), the renderer's facts, the crowd's numbers and
+//! the live meter's summaries, with the page's names.
+
+use super::Inner;
+use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode};
+
+impl Inner {
+    /// The meter's summary for `state()`: per method, the last completed transition's pop
+    /// (silhouette in percent of the view's pixels, shading in mean |ΔRGB| 0..765), or null.
+    fn meter_json(&self) -> String {
+        // Per view, the frame-to-frame change of its difference over the history: silhouette in
+        // percent of the view's pixels, shading in mean |ΔRGB|.
+        let changes: Vec<String> = self
+            .meter
+            .changes()
+            .iter()
+            .map(|c| {
+                format!(
+                    "{{\"silhouetteMean\":{},\"silhouettePeak\":{},\"silhouettePerSecond\":{},\"shadingMean\":{},\"shadingPeak\":{},\"shadingPerSecond\":{}}}",
+                    num(100.0 * c.silhouette_mean),
+                    num(100.0 * c.silhouette_peak),
+                    num(100.0 * c.silhouette_per_second),
+                    num(c.shading_mean),
+                    num(c.shading_peak),
+                    num(c.shading_per_second)
+                )
+            })
+            .collect();
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
+        let by_method = |name: &str| -> String {
+            let Some(last) = &self.meter.last else { return "null".into() };
+            let pops: Vec<_> =
+                methods.iter().zip(last).filter(|(m, _)| method_name(**m) == name).map(|(_, p)| *p).collect();
+            if pops.is_empty() {
+                return "null".into();
+            }
+            let silhouette = pops.iter().map(|p| p.silhouette).fold(0.0, f32::max);
+            let shading = pops.iter().map(|p| p.shading).fold(0.0, f32::max);
+            format!(
+                "{{\"silhouette\":{},\"shading\":{},\"transitions\":{}}}",
+                num(100.0 * silhouette),
+                num(shading),
+                self.meter.transitions
+            )
+        };
+        format!(
+            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{},\"changes\":[{}]}}",
+            self.model.settings.meter,
+            (crate::render::gpu::METER_HEIGHT as f32 * self.model.layout.views[0].aspect()).round(),
+            crate::render::gpu::METER_HEIGHT,
+            self.meter.transitions,
+            self.meter.history.len(),
+            self.meter.gaps,
+            by_method("popping"),
+            by_method("alpha"),
+            by_method("geomorph"),
+            changes.join(","),
+        )
+    }
+
+    /// The meter's recent samples for the page's strip chart: `{ methods, samples: [[time,
+    /// transitionRunning, silhouette % and shading of each view…]] }`, oldest first.
+    pub(super) fn meter_history_json(&self) -> String {
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
+        let names: Vec<String> = methods.iter().map(|m| json_str(method_name(*m))).collect();
+        let samples: Vec<String> = self
+            .meter
+            .history
+            .iter()
+            .map(|s| {
+                let values: Vec<String> =
+                    s.views.iter().flat_map(|v| [num(100.0 * v.silhouette), num(v.shading)]).collect();
+                format!("[{},{},{}]", num(s.time as f32), s.transition.is_running(), values.join(","))
+            })
+            .collect();
+        format!("{{\"methods\":[{}],\"samples\":[{}]}}", names.join(","), samples.join(","))
+    }
+
+    pub(super) fn state_json(&self) -> String {
+        let m = &self.model;
+        let s = &m.settings;
+        let levels: Vec<String> = self
+            .lod
+            .levels
+            .iter()
+            .map(|l| format!("{{\"triangles\":{},\"error\":{}}}", l.triangle_count(), num(l.error)))
+            .collect();
+        let state = m.state();
+        let views: Vec<String> = state
+            .views
+            .iter()
+            .enumerate()
+            .map(|(i, view)| {
+                let triangles: usize = match &m.crowd {
+                    Some(c) => c.frame.stats.triangles.get(i).copied().unwrap_or(0),
+                    None => view.drawn.iter().map(|&l| self.level_triangles(l)).sum(),
+                };
+                let (shown, r) = (view.transition, view.rect);
+                format!(
+                    "{{\"method\":{},\"level\":{},\"to\":{},\"t\":{},\"triangles\":{},\"draws\":{},\"rect\":[{},{},{},{}]}}",
+                    json_str(view.method),
+                    shown.from,
+                    shown.to,
+                    num(shown.t),
+                    triangles,
+                    view.drawn.len(),
+                    r.x,
+                    r.y,
+                    r.width,
+                    r.height
+                )
+            })
+            .collect();
+        let list = |v: &[String]| v.iter().map(|e| json_str(e)).collect::<Vec<_>>().join(",");
+        let (w, h) = self.renderer.size();
+        let switch: Vec<String> = state.switch.iter().map(|&d| num(d)).collect();
+        format!(
+            concat!(
+                "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
+                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},\"lodFrom\":{},",
+                "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
+                "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
+                "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
+                "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
+                "\"morphTargets\":{},\"morphs\":{},\"mode\":{},\"crowd\":{},\"errors\":[{}],\"warnings\":[{}]}}"
+            ),
+            json_str(self.renderer.backend),
+            json_str(&self.renderer.adapter_name),
+            json_str(&self.renderer.color_format_name()),
+            self.renderer.sample_count(),
+            self.renderer.composed(),
+            w,
+            h,
+            self.character.mesh.triangle_count(),
+            self.character.skeleton.joints.len(),
+            list(&self.character.clips.iter().map(|c| c.name.clone()).collect::<Vec<_>>()),
+            self.character.clips.iter().map(|c| num(c.duration())).collect::<Vec<_>>().join(","),
+            s.clip.map_or("null".to_string(), |c| c.to_string()),
+            levels.join(","),
+            switch.join(","),
+            num(self.build_ms as f32),
+            self.built_off_main_thread,
+            self.lod_from.map_or("null".to_string(), json_str),
+            state.selected,
+            num(state.distance),
+            num(m.anim_time as f32),
+            s.paused,
+            num(s.speed),
+            num(s.yaw_degrees),
+            num(s.pitch_degrees),
+            num(s.pan[0]),
+            num(s.pan[1]),
+            json_str(if s.distance_mode == DistanceMode::Manual { "manual" } else { "dolly" }),
+            json_str(overlay_name(s.overlay)),
+            json_str(if s.by_distance { "distance" } else { "time" }),
+            num(s.duration),
+            num(s.zone),
+            num(s.transition_speed),
+            num(s.magnify),
+            self.meter_json(),
+            m.continuous_triangles().map_or("null".to_string(), |t| t.to_string()),
+            self.clod.as_ref().map_or(0, |_| self.character.mesh.triangle_count()),
+            m.layout.stacked,
+            views.join(","),
+            self.frames,
+            self.character.morph_targets.len(),
+            s.morphs && !self.renderer.morphs_dropped(),
+            json_str(if s.crowd { "crowd" } else { "single" }),
+            self.crowd_json(),
+            list(&self.errors),
+            list(&self.warnings),
+        )
+    }
+
+    /// `state().crowd`: what the crowd shows this frame, or null outside crowd mode.
+    fn crowd_json(&self) -> String {
+        let Some(c) = &self.model.crowd else { return "null".into() };
+        let st = &c.frame.stats;
+        let list = |v: &[usize]| v.iter().map(usize::to_string).collect::<Vec<_>>().join(",");
+        format!(
+            "{{\"instances\":{},\"drawn\":{},\"perLevel\":[{}],\"transitions\":{},\"trianglesDrawn\":{},\"trianglesFull\":{},\"viewTriangles\":[{}],\"paletteRows\":{}}}",
+            st.instances,
+            st.drawn,
+            list(&st.per_level),
+            st.transitions,
+            st.triangles.iter().sum::<usize>(),
+            st.triangles_full * st.triangles.len(),
+            list(&st.triangles),
+            c.palette.rows,
+        )
+    }
+}
+
+pub(super) fn num(x: f32) -> String {
+    if x.is_finite() {
+        format!("{x}")
+    } else {
+        "null".into()
+    }
+}
+
+pub(super) fn json_str(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
