@@ -200,11 +200,16 @@ function wireControls() {
 
 // --- files --------------------------------------------------------------------------------------
 
+// Picks so far: a pick whose files are still being read when a newer one arrives gives way, so
+// the file picked last is the one shown even when an earlier, larger file reads slower.
+let picks = 0;
+
 /**
  * Opens picked or dropped files: one `.glb`, or one `.gltf` with the buffers and images it names
  * (matched by file name).
  */
 async function openFiles(files) {
+  const pick = ++picks;
   const main = files.find((f) => /\.(glb|gltf)$/i.test(f.name)) ?? (files.length === 1 ? files[0] : null);
   if (!main) {
     showFailure(`No .glb or .gltf among ${files.map((f) => f.name).join(', ')}`);
@@ -212,9 +217,11 @@ async function openFiles(files) {
   }
   const resources = new Map();
   for (const f of files) if (f !== main) resources.set(f.name, new Uint8Array(await f.arrayBuffer()));
+  const bytes = new Uint8Array(await main.arrayBuffer());
+  if (pick !== picks) return;
   status.textContent = `Opening ${main.name}…`;
   try {
-    await viewer.load({ name: main.name, bytes: new Uint8Array(await main.arrayBuffer()), resources });
+    await viewer.load({ name: main.name, bytes, resources });
     params.delete('model');
     writeUrl();
   } catch (e) {

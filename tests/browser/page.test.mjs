@@ -294,14 +294,36 @@ test('a file opened while another is still building wins, and only its events co
     const viewer = document.getElementById('viewer');
     for (const type of ['load', 'error']) viewer.addEventListener(type, (e) => window.__events.push({ type, triangles: e.detail.triangles, message: e.detail.message }));
   });
-  await page.setInputFiles('#file', { name: 'CesiumMan.glb', mimeType: 'model/gltf-binary', buffer: first });
-  await page.setInputFiles('#file', { name: 'Fox.glb', mimeType: 'model/gltf-binary', buffer: second });
+  // Both files chosen in one task, as two quick picks through the file input: two separate
+  // `setInputFiles` calls leave a gap in which a quiet machine finished the first load (its `load`
+  // then rightly fired), so the test raced the machine. The smaller file reads first: the page
+  // must still show the one picked last.
+  await page.evaluate(async () => {
+    const [a, b] = await Promise.all(['CesiumMan.glb', 'Fox.glb'].map(async (name) => new File([await (await fetch(`/models/${name}`)).arrayBuffer()], name)));
+    const input = document.getElementById('file');
+    for (const file of [a, b]) {
+      const picked = new DataTransfer();
+      picked.items.add(file);
+      input.files = picked.files;
+      input.dispatchEvent(new Event('change'));
+    }
+  });
   await page.waitForFunction(() => window.__events.length > 0, null, { timeout: 120_000 });
   await page.waitForTimeout(3000); // the superseded build finishes meanwhile and must stay silent
   const events = await page.evaluate(() => window.__events);
   assert.deepEqual(events, [{ type: 'load', triangles: 576, message: undefined }]);
   assert.equal((await frame(page, 1000)).triangles, 576);
   assert.equal(await page.locator('[role=alert]').isHidden(), true, 'the superseded file is not reported as a failure');
+  // The element itself: a second load started while the first is building supersedes it.
+  await page.evaluate(async () => {
+    window.__events.length = 0;
+    const [fox, man] = await Promise.all(['Fox.glb', 'CesiumMan.glb'].map(async (name) => new Uint8Array(await (await fetch(`/models/${name}`)).arrayBuffer())));
+    window.__clod.load('Fox.glb', fox).catch(() => {});
+    window.__clod.load('CesiumMan.glb', man).catch(() => {});
+  });
+  await page.waitForFunction(() => window.__events.length > 0, null, { timeout: 120_000 });
+  await page.waitForTimeout(3000);
+  assert.deepEqual(await page.evaluate(() => window.__events), [{ type: 'load', triangles: 4672, message: undefined }]);
 });
 
 // Textures are mipmapped on the GPU (src/render/gpu/mipmaps.rs): without mip levels a distant
