@@ -68,8 +68,9 @@ pub enum CollapseMode {
     HalfEdge,
 }
 
-/// The order in which collapses are chosen. Both are deterministic, and a run stopped by the
-/// target or the error limit is a prefix of the unlimited run.
+/// The order in which collapses are chosen. Both are deterministic; a run stopped by the target
+/// is a prefix of the untargeted run, and a run with an error limit is the unlimited run's prefix
+/// up to its first collapse over the limit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Schedule {
     /// Always the cheapest valid collapse next, from a heap with lazy invalidation.
@@ -91,8 +92,9 @@ pub struct SimplifyOptions {
     pub mode: CollapseMode,
     /// Stop once at most this many triangles are left; `0` simplifies as far as possible.
     pub target_triangles: usize,
-    /// Stop before the first collapse whose cost (mean squared error, position units²) exceeds
-    /// this. Infinite by default.
+    /// Make no collapse whose mean squared error (over the area of its two classes, position
+    /// units²) exceeds this: such collapses are skipped, and the run ends when only they are
+    /// left. Infinite by default.
     pub max_error: f32,
     /// First of three attribute channels holding a normal, renormalised after interpolation.
     pub normal_channel: Option<usize>,
@@ -117,7 +119,7 @@ impl Default for SimplifyOptions {
 pub enum StopReason {
     /// `target_triangles` was reached.
     TargetReached,
-    /// The next collapse would have cost more than `max_error`.
+    /// Every collapse left would cost more than `max_error`.
     MaxErrorReached,
     /// No valid collapse is left (everything remaining is locked or would fold); the mesh may
     /// still have more triangles than asked for.

@@ -174,7 +174,7 @@ impl Engine<'_> {
         self.version[vi] = self.version[vi].wrapping_add(1);
         self.failed_head[vi] = NONE; // every edge of v is queued again below
         self.log.steps.push(RawStep {
-            cost: plan.cost,
+            cost: plan.mean_squared,
             distance,
             triangles_after: self.live_triangles as u32,
             first_new_vertex: first_new,

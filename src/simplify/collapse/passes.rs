@@ -14,8 +14,8 @@
 //! The result is an ordered collapse sequence like the strict one's (vertex splits, ancestors and
 //! the running-maximum error keep their meaning), but a collapse's cost is no longer monotone: it
 //! rises within a pass and may drop at the next. The goal depends on the mesh state only, never
-//! on the target or the error limit, and the run stops at the first collapse that reaches the
-//! target or would exceed the limit, so a limited run is a prefix of an unlimited one.
+//! on the target or the error limit; the run stops at the first collapse that reaches the target
+//! and skips those over the limit, so a targeted run is a prefix of an untargeted one.
 
 use super::super::queue::Candidate;
 use super::super::StopReason;
@@ -46,7 +46,7 @@ impl Engine<'_> {
         loop {
             self.pick();
             if self.candidates.is_empty() {
-                return StopReason::NoValidCollapse;
+                return self.exhausted();
             }
             let goal = self.rank(running_max);
             let first = self.sort(goal);
@@ -103,8 +103,8 @@ impl Engine<'_> {
         end
     }
 
-    /// Commits `batch` in order; `Some` when the run ends (target reached, or the next collapse
-    /// would exceed `max_error`).
+    /// Commits `batch` in order, skipping collapses over `max_error`; `Some` when the target is
+    /// reached.
     fn perform(
         &mut self,
         batch: &[Candidate],
@@ -123,14 +123,15 @@ impl Engine<'_> {
             if !self.alive[u as usize] || !self.alive[v as usize] || entry.stamp != self.stamp_of(u, v) {
                 continue;
             }
-            if entry.cost() > max_error {
-                return Some(StopReason::MaxErrorReached);
-            }
             // Re-planning fills the pairing scratch `apply` uses; the cost is still exact (no end
             // changed), and a wrapped 16-bit stamp shows here as a different cost.
             let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
+            if plan.mean_squared as f32 > max_error {
+                self.over_floor = true;
+                continue;
+            }
             if !self.check(&plan) {
                 self.park(u, v);
                 self.park(v, u);

@@ -1,7 +1,8 @@
 //! Planning and pricing one collapse: the wedge pairing of its two classes (seams follow the
 //! edge), the placement (quadric minimiser, best point of the edge, or the survivor's position)
 //! and its cost in f64 (Garland & Heckbert's quadric plus Hoppe's 1999 attribute quadrics, with
-//! the attributes reduced out at their optimum). Part of the collapse engine in `mod.rs`.
+//! the attributes reduced out at their optimum): the area-weighted error that orders collapses,
+//! and the mean squared error over the pair's area that the floor and the records use. Part of the collapse engine in `mod.rs`.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -163,8 +164,18 @@ impl Engine<'_> {
         };
         // The stored position is f32: price and check exactly the point that will be output.
         let p = p.as_vec3().as_dvec3();
+        // The order key is the area-weighted error (see the module docs); the floor and the
+        // recorded error are its mean over the pair's own area.
+        let error = total.error(p).max(0.0);
         let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
-        let cost = total.error(p).max(0.0) / weight;
-        cost.is_finite().then_some(Plan { u, v, p, cost, placement })
+        let (cost, mean_squared) = (error * self.inverse_mean_pair_area, error / weight);
+        (cost.is_finite() && mean_squared.is_finite()).then_some(Plan {
+            u,
+            v,
+            p,
+            cost,
+            mean_squared,
+            placement,
+        })
     }
 }

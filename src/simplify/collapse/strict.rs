@@ -6,7 +6,8 @@ use super::super::StopReason;
 use super::{stamp, Engine, Progress};
 
 impl Engine<'_> {
-    /// Pops collapses in order until the target, the error limit or the end of the queue.
+    /// Pops collapses in order until the target or the end of the queue, skipping those over the
+    /// error limit.
     pub(super) fn collapse_until(
         &mut self,
         target: usize,
@@ -33,21 +34,22 @@ impl Engine<'_> {
                 self.purged_length = self.queue.len();
             }
             let Some(entry) = self.queue.pop() else {
-                return StopReason::NoValidCollapse;
+                return self.exhausted();
             };
             let (u, v) = (entry.u(), entry.v);
             let (ui, vi) = (u as usize, v as usize);
             if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
                 continue;
             }
-            if entry.cost() > max_error {
-                return StopReason::MaxErrorReached;
-            }
             // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
             // which a current entry reproduces exactly.
             let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
+            if plan.mean_squared as f32 > max_error {
+                self.over_floor = true;
+                continue;
+            }
             if !self.check(&plan) {
                 self.park(u, v);
                 self.park(v, u);
