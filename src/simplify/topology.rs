@@ -55,8 +55,10 @@ const CORNER_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Which kind of constraint an edge is; it selects the penalty-plane weight.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Constraint {
-    /// One triangle, or two triangles with different materials.
+    /// One triangle: an open border of the surface.
     Border,
+    /// Two triangles with different materials.
+    Material,
     /// Two triangles of one material that use different wedges at an end.
     Seam,
 }
@@ -286,7 +288,7 @@ pub(crate) fn classify(
                     let n0 = other_corners(c0).0;
                     let n1 = other_corners(c1).1;
                     if material(c0) != material(c1) {
-                        Some(Constraint::Border)
+                        Some(Constraint::Material)
                     } else if indices[c0 as usize] != indices[c1 as usize]
                         || indices[n0 as usize] != indices[n1 as usize]
                     {

@@ -15,10 +15,17 @@ use super::SimplifyInput;
 use glam::DVec3;
 
 /// Penalty-plane weight (× edge length², so it scales like the area-weighted face quadrics) for
-/// mesh borders and material borders. Moving a border vertex by δ across its border then costs
-/// about 10 × δ² per unit of area, an order of magnitude more than bending the surface by δ:
-/// silhouettes and material outlines go last (Garland & Heckbert 1997 use a similar weight).
-const BORDER_WEIGHT: f64 = 10.0;
+/// open mesh borders. Moving a border by δ along a length L uncovers or covers about L·δ of
+/// surface, the area a face plane of that size weighs: the same weight as the surface, so
+/// collapses are ordered by the area they change. Measured against 10 (the material borders'
+/// weight) on `parts.glb`, 57 open plates: animated error against meshoptimizer 1.25 → 1.14 ×
+/// averaged over levels, lower at every level; the other models have no open borders.
+const OPEN_BORDER_WEIGHT: f64 = 1.0;
+/// Penalty-plane weight for material borders. Moving a material outline by δ costs about
+/// 10 × δ² per unit of area, an order of magnitude more than bending the surface by δ: a colour
+/// boundary shows before the shape does, so material outlines go last (Garland & Heckbert 1997
+/// use a similar weight for borders).
+const MATERIAL_BORDER_WEIGHT: f64 = 10.0;
 /// Penalty weight for attribute seams: they are not geometric boundaries, so they only weigh as
 /// much as the surface; their attribute quadrics carry the rest.
 const SEAM_WEIGHT: f64 = 1.0;
@@ -65,7 +72,8 @@ pub(super) fn geometric_quadrics(
             continue; // degenerate triangle or edge: no direction to keep
         }
         let weight = match side.constraint {
-            Constraint::Border => BORDER_WEIGHT,
+            Constraint::Border => OPEN_BORDER_WEIGHT,
+            Constraint::Material => MATERIAL_BORDER_WEIGHT,
             Constraint::Seam => SEAM_WEIGHT,
         } * edge.length_squared();
         let mut q = Quadric::from_plane(plane, -plane.dot(pa), weight);
