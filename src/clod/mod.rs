@@ -46,8 +46,9 @@ pub struct ClodOptions {
     pub weights: WeightRule,
     /// The floor of the progressive mesh: simplification makes no collapse whose error (root
     /// mean square over the collapsing pair's area, quadric-measured) exceeds this fraction of
-    /// the bounding-box diagonal, and ends when only such collapses are left. [`DEFAULT_MAX_ERROR`] by default; `f32::INFINITY` simplifies as far as the
-    /// topology allows.
+    /// the bounding-box diagonal, and ends when only such collapses are left.
+    /// [`DEFAULT_MAX_ERROR`] by default; `f32::INFINITY` simplifies as far as the topology
+    /// allows.
     pub max_error: f32,
     /// The order of collapses: strictly cheapest first (the default) or batched passes.
     pub schedule: Schedule,

@@ -2,7 +2,8 @@
 //! edge), the placement (quadric minimiser, best point of the edge, or the survivor's position)
 //! and its cost in f64 (Garland & Heckbert's quadric plus Hoppe's 1999 attribute quadrics, with
 //! the attributes reduced out at their optimum): the area-weighted error that orders collapses,
-//! and the mean squared error over the pair's area that the floor and the records use. Part of the collapse engine in `mod.rs`.
+//! and the mean squared error over the pair's area that the floor and the records use. Part of
+//! the collapse engine in `mod.rs`.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
