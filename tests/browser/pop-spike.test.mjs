@@ -8,6 +8,7 @@ import assert from 'node:assert/strict';
 import { launch, openPage, frame, measurePopSpike, SMALL_VIEWPORT } from './helpers.mjs';
 
 let browser;
+const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
@@ -28,7 +29,11 @@ test("geomorph's largest frame change is ≤ 10 % of popping's (alpha-blend vari
     assert.equal(spike.variant, variant);
     assert.deepEqual(spike.views.map((v) => v.method), ['popping', 'alpha', 'geomorph']);
     assert.ok(spike.views.every((v) => v.series.length === frames - 1));
-    assert.ok(popping > 1, `popping changes the picture: ${popping}`);
+    // The switch must stand out of the camera's own motion, whatever the levels' accuracy: the
+    // slow sweep changes about 0.01 per frame; the coarsest switch of the built-in character pops
+    // 0.84 since collapses are ordered by area-weighted error (it was over 1 before).
+    const drift = median(spike.views[0].series);
+    assert.ok(popping > 20 * drift && popping > 0.25, `popping changes the picture: ${popping} (drift ${drift})`);
     assert.ok(geomorph <= 0.1 * popping,
       `geomorph ${geomorph} > 10 % of popping ${popping}; frame changes: popping ${spike.views[0].series} geomorph ${spike.views[2].series}`);
   }
