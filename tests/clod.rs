@@ -4,7 +4,7 @@
 
 mod common;
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose};
 use clod_viewer::metrics::bounds_diagonal;
@@ -36,13 +36,20 @@ fn build(character: &Character, options: &ClodOptions) -> Clod {
     clod::build(character, options, &mut |_| {}).expect("shared models simplify")
 }
 
-/// Indices in range, no degenerate and no duplicate triangle, ancestors valid, errors monotone.
+/// `t` rotated to start at its smallest index (the winding kept).
+fn rotated_to_min(mut t: [u32; 3]) -> [u32; 3] {
+    let min = (0..3).min_by_key(|&r| t[r]).unwrap();
+    t.rotate_left(min);
+    t
+}
+
+/// Indices in range, no degenerate triangle, no duplicate but a two-sided sheet, ancestors valid, errors monotone.
 fn check_chain(name: &str, clod: &Clod) {
     let pm = &clod.apm.pm;
     assert!(clod.levels.len() >= 2, "{name}: only {} level(s)", clod.levels.len());
     for (i, level) in clod.levels.iter().enumerate() {
         let n = level.vertices.len() as u32;
-        let mut seen = HashSet::new();
+        let mut seen = HashMap::new();
         for t in level.indices.chunks_exact(3) {
             assert!(t.iter().all(|&v| v < n), "{name} level {i}: index out of range");
             assert!(
@@ -51,7 +58,15 @@ fn check_chain(name: &str, clod: &Clod) {
             );
             let mut key = [t[0], t[1], t[2]];
             key.sort();
-            assert!(seen.insert(key), "{name} level {i}: duplicate triangle {t:?}");
+            // Two triangles on the same corners must face opposite ways: a two-sided sheet, what
+            // a closed part becomes on its way out (a tetrahedron's first collapse).
+            let windings: &mut Vec<[u32; 3]> = seen.entry(key).or_default();
+            windings.push(rotated_to_min([t[0], t[1], t[2]]));
+            assert!(
+                windings.len() == 1
+                    || (windings.len() == 2 && windings[0] == rotated_to_min([t[0], t[2], t[1]])),
+                "{name} level {i}: duplicate triangle {t:?}"
+            );
         }
         if let Some(coarser) = clod.levels.get(i + 1) {
             assert!(

@@ -54,25 +54,41 @@ fn flat_grid_collapses_to_two_triangles_without_error() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-fn tetrahedron_does_not_collapse_and_says_so() {
+fn tetrahedron_becomes_a_two_sided_sheet_then_vanishes() {
+    // A closed part may go away whole: its first collapse leaves two triangles on the same three
+    // corners facing opposite ways, its second removes both.
     let mesh = tetrahedron();
-    let pm = mesh.simplify(&options(CollapseMode::Full, 1));
-    assert_eq!(pm.collapse_count(), 0);
-    assert_eq!(pm.triangle_count_after(0), 4);
-    assert_eq!(pm.stop, StopReason::NoValidCollapse);
+    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        let pm = mesh.simplify(&options(mode, 1));
+        assert_eq!(pm.stop, StopReason::TargetReached, "{mode:?}");
+        assert_eq!(pm.collapse_count(), 2, "{mode:?}");
+        assert_eq!([0, 1, 2].map(|k| pm.triangle_count_after(k)), [4, 2, 0], "{mode:?}");
+        let sheet = pm.indices_at(1);
+        let (front, back) = (&sheet[..3], &sheet[3..]);
+        assert!(
+            [0, 1, 2].iter().any(|&r| [back[r], back[(r + 2) % 3], back[(r + 1) % 3]] == front),
+            "{mode:?}: {sheet:?} is not one triangle facing both ways"
+        );
+        // Vanishing costs what the part spans: the unit tetrahedron's size, not nothing.
+        assert!(pm.distance_after(2) > 0.1, "{mode:?}: {}", pm.distance_after(2));
+        check_invariants(&mesh, &pm, &[0, 1, 2], true);
+        check_cursor(&pm, &[2, 0, 1, 2]);
+    }
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-fn closed_cube_stops_at_a_tetrahedron() {
+fn closed_cube_goes_through_a_tetrahedron_and_a_sheet_to_nothing() {
     let mesh = cube();
     for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+        // Target 0 is "as far as it goes": the run ends when no collapse is left.
         let pm = mesh.simplify(&options(mode, 0));
         let k = pm.collapse_count();
-        assert_eq!(pm.triangle_count_after(k), 4, "{mode:?}");
-        assert_eq!(pm.stop, StopReason::NoValidCollapse);
+        assert_eq!(pm.stop, StopReason::NoValidCollapse, "{mode:?}");
+        assert_eq!(k, 6, "{mode:?}");
+        assert_eq!((0..=k).map(|j| pm.triangle_count_after(j)).collect::<Vec<_>>(), [12, 10, 8, 6, 4, 2, 0]);
         check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), true);
-        check_cursor(&pm, &[k, 0, 2, 1, k, 3]);
+        check_cursor(&pm, &[k, 0, 2, 1, k, 3, 5]);
     }
 }
 

@@ -95,6 +95,13 @@ fn normal(a: Vec3, b: Vec3, c: Vec3) -> DVec3 {
     (b - a).cross(c - a)
 }
 
+/// `t` rotated to start at its smallest element (the winding kept).
+fn rotated_to_min<T: Ord + Copy>(mut t: [T; 3]) -> [T; 3] {
+    let min = (0..3).min_by_key(|&r| t[r]).unwrap();
+    t.rotate_left(min);
+    t
+}
+
 fn sorted<T: Ord>(mut v: Vec<T>) -> Vec<T> {
     v.sort();
     v
@@ -149,10 +156,19 @@ pub fn check_invariants(mesh: &Mesh, pm: &ProgressiveMesh, levels: &[usize], clo
             let [a, b, c] = [t[0], t[1], t[2]];
             assert!(a != b && b != c && a != c, "degenerate triangle at level {k}");
             let [pa, pb, pc] = [a, b, c].map(|v| pm.positions[v as usize]);
-            let mut pkey = [key(pa), key(pb), key(pc)];
+            let winding = [key(pa), key(pb), key(pc)];
+            let mut pkey = winding;
             assert!(pkey[0] != pkey[1] && pkey[1] != pkey[2] && pkey[0] != pkey[2], "collapsed positions");
             pkey.sort();
-            assert!(seen.insert(pkey, i).is_none(), "duplicate triangle at level {k}");
+            // Two triangles on the same corners must face opposite ways: a two-sided sheet, what
+            // a closed tetrahedron becomes on its way out.
+            let windings: &mut Vec<[[u32; 3]; 3]> = seen.entry(pkey).or_default();
+            windings.push(rotated_to_min(winding));
+            let reversed = rotated_to_min([winding[0], winding[2], winding[1]]);
+            assert!(
+                windings.len() == 1 || (windings.len() == 2 && windings[0] == reversed),
+                "duplicate triangle at level {k}"
+            );
             // No fold: within 90° of the input triangle it descends from.
             let s = pm.triangle_source[i] as usize;
             let [ia, ib, ic] = [0, 1, 2].map(|j| mesh.positions[mesh.indices[3 * s + j] as usize]);

@@ -1,6 +1,12 @@
 //! The validity checks of a planned collapse (the link condition, duplicate triangles, merged
 //! constraint lines, folds) and the parking of an edge that failed them; part of the collapse
 //! engine in `mod.rs`, whose state they read.
+//!
+//! One exception to "no duplicate triangles" lets a closed part go away whole, as
+//! meshoptimizer's parts do: a lone tetrahedron collapses to a two-sided sheet (two triangles on
+//! the same corners, facing opposite ways, so a culled material still shows it from both
+//! sides), and a lone sheet collapses to nothing. Both steps are priced like any other collapse:
+//! the merged quadric holds every plane of the part, so vanishing costs what the part spans.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -99,8 +105,13 @@ impl Engine<'_> {
             opposite[count] = x;
             count += 1;
         }
-        if count == 0 || (count == 2 && opposite[0] == opposite[1]) {
-            return false; // no longer an edge, or a pinched one
+        if count == 0 {
+            return false; // no longer an edge
+        }
+        if count == 2 && opposite[0] == opposite[1] {
+            // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
+            // standing alone may collapse; both triangles die and nothing of it is left to fold.
+            return self.is_lone(&[u, v, opposite[0]], 2);
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
         for corner in self.lists.iter(u) {
@@ -115,8 +126,13 @@ impl Engine<'_> {
                     return false;
                 }
             }
-            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b).
-            if is_opposite(a) && is_opposite(b) && self.has_triangle(v, a, b) {
+            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b),
+            // which is allowed only when the four are a lone tetrahedron (it becomes a sheet).
+            if is_opposite(a)
+                && is_opposite(b)
+                && self.has_triangle(v, a, b)
+                && !self.is_lone(&[u, v, a, b], 3)
+            {
                 return false;
             }
         }
@@ -151,6 +167,11 @@ impl Engine<'_> {
         let record = self.failed.len() as u32;
         self.failed.push((partner, self.failed_head[c as usize]));
         self.failed_head[c as usize] = record;
+    }
+
+    /// Whether each of `classes` lies on exactly `corners` live triangles.
+    fn is_lone(&self, classes: &[u32], corners: usize) -> bool {
+        classes.iter().all(|&c| self.lists.iter(c).count() == corners)
     }
 
     /// Whether a live triangle has classes `c`, `a` and `b` (corner lists hold only live
