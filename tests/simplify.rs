@@ -58,8 +58,13 @@ fn tetrahedron_becomes_a_two_sided_sheet_then_vanishes() {
     // A closed part may go away whole: its first collapse leaves two triangles on the same three
     // corners facing opposite ways, its second removes both.
     let mesh = tetrahedron();
-    for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
-        let pm = mesh.simplify(&options(mode, 1));
+    let runs = [
+        (CollapseMode::Full, Schedule::Strict),
+        (CollapseMode::HalfEdge, Schedule::Strict),
+        (CollapseMode::Full, Schedule::Passes),
+    ];
+    for (mode, schedule) in runs {
+        let pm = mesh.simplify(&SimplifyOptions { schedule, ..options(mode, 1) });
         assert_eq!(pm.stop, StopReason::TargetReached, "{mode:?}");
         assert_eq!(pm.collapse_count(), 2, "{mode:?}");
         assert_eq!([0, 1, 2].map(|k| pm.triangle_count_after(k)), [4, 2, 0], "{mode:?}");
