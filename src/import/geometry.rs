@@ -19,7 +19,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{Affine2, Mat2, Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf_json::accessor::Type;
 use gltf_json::mesh::{Mode, Semantic};
 use gltf_json::validation::Checked;
@@ -161,6 +161,24 @@ pub(crate) fn merge_meshes(
     Ok(out)
 }
 
+/// The `KHR_texture_transform` of `material`'s base colour texture as a matrix on uvs
+/// (translation · rotation · scale, the extension's order; rotation counter-clockwise in uv
+/// space), the identity without one. The viewer samples only the base colour texture, so its
+/// transform is baked into the primitive's uvs: gltfpack stores quantized uvs and their
+/// dequantization this way.
+fn base_color_uv_transform(root: &gltf_json::Root, material: Option<usize>) -> Affine2 {
+    let transform = material
+        .and_then(|m| root.materials.get(m))
+        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())
+        .and_then(|info| info.extensions.as_ref())
+        .and_then(|e| e.texture_transform.as_ref());
+    let Some(t) = transform else { return Affine2::IDENTITY };
+    let (sin, cos) = t.rotation.0.sin_cos();
+    let [sx, sy] = t.scale.0;
+    let linear = Mat2::from_cols(Vec2::new(cos * sx, -sin * sx), Vec2::new(sin * sy, cos * sy));
+    Affine2::from_mat2_translation(linear, Vec2::from_array(t.offset.0))
+}
+
 /// Reads one primitive's attributes and triangles, or `None` (with a warning) when it draws no
 /// triangles.
 fn read_primitive(
@@ -214,7 +232,9 @@ fn read_primitive(
         Some(a) => {
             let e = read_floats(src, a, &usage("TEXCOORD_0"), &[Type::Vec2], MAX_VERTICES)?;
             same_count("TEXCOORD_0", &e)?;
-            let uvs: Vec<Vec2> = e.values.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
+            let transform = base_color_uv_transform(src.root, prim.material.map(|m| m.value()));
+            let uvs: Vec<Vec2> =
+                e.values.chunks_exact(2).map(|c| transform.transform_point2(Vec2::new(c[0], c[1]))).collect();
             if let Some(v) = uvs.iter().position(|t| !t.is_finite()) {
                 return Err(prim_error(label, format!("vertex {v} has a non-finite texture coordinate")));
             }

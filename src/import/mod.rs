@@ -4,7 +4,10 @@
 //!
 //! The pipeline, in the order of this module's files:
 //! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
-//!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else).
+//!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else). A file
+//!    that requires an extension we cannot read (Draco or meshopt compression, KTX2 textures, …)
+//!    is an [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
+//!    `KHR_texture_transform` (gltfpack's output) are read.
 //! 2. `scene`: the node tree of the default scene (scene 0 if none is marked): parents, cycle
 //!    checks, rest transforms, and the skeleton nodes (joints, mesh nodes, their ancestors).
 //! 3. `geometry`: every triangle primitive of every mesh node merged into one indexed mesh in bind
@@ -86,6 +89,44 @@ pub enum ImportError {
     /// The default scene draws no triangles.
     #[error("the scene has no triangle meshes to show")]
     NoTriangles,
+    /// The file requires an extension the importer cannot read (compressed geometry, …).
+    #[error("the file needs the glTF extension {name} ({what}), which this viewer cannot read; {advice}")]
+    UnsupportedExtension { name: String, what: String, advice: String },
+}
+
+/// Extensions a file may require that the importer reads: quantized attributes
+/// (`KHR_mesh_quantization`, gltfpack's default) are integer or normalized accessors, which
+/// `accessor` reads like any other, and the base colour texture's `KHR_texture_transform` is
+/// applied to the primitive's uvs (`geometry`).
+const READ_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", "KHR_texture_transform"];
+
+/// The error for a required extension that is not in [`READ_EXTENSIONS`], saying what it is and
+/// what a user can do.
+fn unsupported_extension(name: &str) -> ImportError {
+    let recompress = "export or convert the file without it (for example gltf-transform or \
+                      Blender's glTF exporter with compression off)";
+    let (what, advice) = match name {
+        "KHR_draco_mesh_compression" => ("Draco-compressed geometry", recompress),
+        "EXT_meshopt_compression" => ("meshoptimizer-compressed buffers", recompress),
+        "KHR_texture_basisu" => ("KTX2 / Basis Universal textures", "convert its textures to PNG or JPEG"),
+        "EXT_texture_webp" | "EXT_texture_avif" => {
+            ("WebP or AVIF textures", "convert its textures to PNG or JPEG")
+        }
+        _ => ("an extension the viewer does not know", "export the file without it"),
+    };
+    ImportError::UnsupportedExtension {
+        name: name.to_string(),
+        what: what.to_string(),
+        advice: advice.to_string(),
+    }
+}
+
+/// The first required extension the importer cannot read, if any.
+fn first_unreadable(required: &[String]) -> Option<ImportError> {
+    required
+        .iter()
+        .find(|name| !READ_EXTENSIONS.contains(&name.as_str()))
+        .map(|name| unsupported_extension(name))
 }
 
 /// Imports a binary glTF (`.glb`) file.
@@ -136,8 +177,24 @@ pub fn from_bytes(
 fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
     // A UTF-8 byte order mark is not JSON, but some tools write one.
     let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
-    let root: gltf_json::Root =
-        gltf_json::deserialize::from_slice(json).map_err(|e| ImportError::Json(e.to_string()))?;
+    let root: gltf_json::Root = match gltf_json::deserialize::from_slice(json) {
+        Ok(root) => root,
+        Err(e) => {
+            // A required extension may be why (a KTX2 texture has no `source`): say so instead.
+            let value: Result<gltf_json::Value, _> = gltf_json::deserialize::from_slice(json);
+            let required = value.ok().and_then(|v| {
+                let names = v.get("extensionsRequired")?.as_array()?.iter();
+                Some(names.filter_map(|n| n.as_str().map(str::to_string)).collect::<Vec<_>>())
+            });
+            return Err(required
+                .as_deref()
+                .and_then(first_unreadable)
+                .unwrap_or(ImportError::Json(e.to_string())));
+        }
+    };
+    if let Some(error) = first_unreadable(&root.extensions_required) {
+        return Err(error);
+    }
     // gltf-json's primitive check indexes `accessors[POSITION]` without a bounds check: make sure
     // that index exists before running it.
     for (m, mesh) in root.meshes.iter().enumerate() {
@@ -158,7 +215,11 @@ fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
         let path = path();
         // POSITION's min/max are required by the spec but only serve culling; we compute bounds
         // ourselves, so files that omit them still load.
-        if !(path.as_str().ends_with(".min") || path.as_str().ends_with(".max")) {
+        // Required extensions were checked above against what we read.
+        if !(path.as_str().ends_with(".min")
+            || path.as_str().ends_with(".max")
+            || path.as_str().starts_with("extensionsRequired"))
+        {
             errors.push((path, error));
         }
     });

@@ -1,0 +1,151 @@
+//! Required glTF extensions on the tiny skinned triangle (tests/common `TinyModel`): those the
+//! importer reads (`KHR_mesh_quantization`: integer and normalized attributes, as gltfpack writes
+//! them; `KHR_texture_transform` on the base colour texture, gltfpack's uv dequantization) import
+//! to exact values, and every other one is an error that names it and says what to do.
+
+mod common;
+
+use clod_viewer::import::from_gltf;
+use clod_viewer::{Character, ImportError};
+use common::TinyModel;
+use glam::{Vec2, Vec3};
+use gltf_json::Value;
+
+fn import(model: &TinyModel) -> Result<Character, ImportError> {
+    from_gltf(&model.gltf(), &mut |_| None)
+}
+
+fn require(model: &mut TinyModel, names: &[&str]) {
+    model.json["extensionsUsed"] = Value::from(names.to_vec());
+    model.json["extensionsRequired"] = Value::from(names.to_vec());
+}
+
+/// Appends `bytes` (padded to 4) to the buffer as a new buffer view and returns its index.
+fn add_view(model: &mut TinyModel, bytes: &[u8]) -> usize {
+    let offset = model.bin.len();
+    model.bin.extend_from_slice(bytes);
+    model.bin.resize(model.bin.len().next_multiple_of(4), 0);
+    model.json["buffers"][0]["byteLength"] = Value::from(model.bin.len());
+    let views = model.json["bufferViews"].as_array_mut().unwrap();
+    views.push(view_json(offset, bytes.len()));
+    views.len() - 1
+}
+
+fn view_json(offset: usize, length: usize) -> Value {
+    let text = format!(r#"{{"buffer": 0, "byteOffset": {offset}, "byteLength": {length}}}"#);
+    gltf_json::deserialize::from_str(&text).unwrap()
+}
+
+/// Adds an accessor of `count` elements over buffer view `view` and returns its index.
+fn add_accessor(
+    model: &mut TinyModel,
+    view: usize,
+    component_type: u32,
+    normalized: bool,
+    ty: &str,
+) -> usize {
+    let text = format!(
+        r#"{{"bufferView": {view}, "componentType": {component_type}, "normalized": {normalized},
+            "count": 3, "type": "{ty}"}}"#
+    );
+    let accessors = model.json["accessors"].as_array_mut().unwrap();
+    accessors.push(gltf_json::deserialize::from_str(&text).unwrap());
+    accessors.len() - 1
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn quantized_attributes_and_a_uv_transform_import_exactly() {
+    let mut model = TinyModel::new();
+    require(&mut model, &["KHR_mesh_quantization", "KHR_texture_transform"]);
+    // POSITION as unnormalized u16 (gltfpack's integer grid), NORMAL as normalized i8, TEXCOORD_0
+    // as normalized u16.
+    let positions: Vec<u8> = [[0u16, 0, 0], [4, 0, 0], [0, 4, 0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()).chain([0, 0]))
+        .collect();
+    let normals: Vec<u8> = [[0i8, 0, 127, 0]; 3].iter().flatten().map(|&c| c as u8).collect();
+    let uvs: Vec<u8> =
+        [[0u16, 0], [65535, 0], [0, 65535]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let view = add_view(&mut model, &positions);
+    model.json["bufferViews"][view]["byteStride"] = Value::from(8);
+    let position = add_accessor(&mut model, view, 5123, false, "VEC3");
+    let view = add_view(&mut model, &normals);
+    model.json["bufferViews"][view]["byteStride"] = Value::from(4);
+    let normal = add_accessor(&mut model, view, 5120, true, "VEC3");
+    let view = add_view(&mut model, &uvs);
+    let uv = add_accessor(&mut model, view, 5123, true, "VEC2");
+    let attributes = &mut model.json["meshes"][0]["primitives"][0]["attributes"];
+    attributes["POSITION"] = Value::from(position);
+    attributes["NORMAL"] = Value::from(normal);
+    attributes["TEXCOORD_0"] = Value::from(uv);
+    model.json["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+    // A quarter of the texture, offset to its middle: uv' = (0.5, 0.25) + 0.25 · uv.
+    let material = r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions":
+        {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [0.25, 0.25]}}}}}]"#;
+    model.json["materials"] = gltf_json::deserialize::from_str(material).unwrap();
+    model.json["textures"] = gltf_json::deserialize::from_str(r#"[{"source": 0}]"#).unwrap();
+    model.json["images"] = gltf_json::deserialize::from_str(r#"[{"uri": "texture.png"}]"#).unwrap();
+    let resolve = &mut |uri: &str| (uri == "texture.png").then(|| b"\x89PNG\r\n\x1a\n".to_vec());
+    let c = from_gltf(&model.gltf(), resolve).expect("a quantized file imports");
+    assert_eq!(c.mesh.positions, vec![Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 4.0, 0.0)]);
+    assert_eq!(c.mesh.normals, vec![Vec3::Z; 3]);
+    let expected = [Vec2::new(0.5, 0.25), Vec2::new(0.75, 0.25), Vec2::new(0.5, 0.5)];
+    assert_eq!(c.mesh.uvs.as_deref(), Some(expected.as_slice()));
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_rotated_uv_transform_turns_counter_clockwise_in_uv_space() {
+    // The extension's example: rotation π/2 maps (1, 0) to (0, −1) before the offset.
+    let mut model = TinyModel::new();
+    let uvs: Vec<u8> =
+        [[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let view = add_view(&mut model, &uvs);
+    let uv = add_accessor(&mut model, view, 5126, false, "VEC2");
+    model.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = Value::from(uv);
+    model.json["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+    let material = r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions":
+        {"KHR_texture_transform": {"offset": [0, 1], "rotation": 1.5707963}}}}}]"#;
+    model.json["materials"] = gltf_json::deserialize::from_str(material).unwrap();
+    model.json["textures"] = gltf_json::deserialize::from_str(r#"[{"source": 0}]"#).unwrap();
+    model.json["images"] = gltf_json::deserialize::from_str(r#"[{"uri": "texture.png"}]"#).unwrap();
+    let resolve = &mut |_: &str| Some(b"\x89PNG\r\n\x1a\n".to_vec());
+    let c = from_gltf(&model.gltf(), resolve).expect("imports");
+    let uvs = c.mesh.uvs.expect("uvs");
+    for (got, want) in uvs.iter().zip([Vec2::new(0.0, 1.0), Vec2::new(0.0, 0.0), Vec2::new(1.0, 1.0)]) {
+        assert!((*got - want).length() < 1e-6, "{got} != {want}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn an_unreadable_required_extension_is_named_with_what_to_do() {
+    for (name, what) in [
+        ("KHR_draco_mesh_compression", "Draco"),
+        ("EXT_meshopt_compression", "meshoptimizer-compressed"),
+        ("KHR_texture_basisu", "KTX2"),
+        ("EXT_made_up", "does not know"),
+    ] {
+        let mut model = TinyModel::new();
+        require(&mut model, &["KHR_mesh_quantization", name]);
+        let message = import(&model).expect_err(name).to_string();
+        assert!(message.contains(name) && message.contains(what), "{message}");
+    }
+    // A KTX2 texture has no `source`, so the document does not even parse as core glTF: the
+    // message still names the extension rather than the missing field.
+    let mut model = TinyModel::new();
+    require(&mut model, &["KHR_texture_basisu"]);
+    model.json["textures"] =
+        gltf_json::deserialize::from_str(r#"[{"extensions": {"KHR_texture_basisu": {"source": 0}}}]"#)
+            .unwrap();
+    let error = import(&model).expect_err("KTX2");
+    assert!(
+        matches!(&error, ImportError::UnsupportedExtension { name, .. } if name == "KHR_texture_basisu"),
+        "{error}"
+    );
+    // Used but not required: the file is readable without it, and imports.
+    let mut model = TinyModel::new();
+    model.json["extensionsUsed"] = Value::from(vec!["KHR_materials_variants"]);
+    import(&model).expect("an optional extension is ignored");
+}
