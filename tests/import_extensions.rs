@@ -124,28 +124,46 @@ fn an_unreadable_required_extension_is_named_with_what_to_do() {
     for (name, what) in [
         ("KHR_draco_mesh_compression", "Draco"),
         ("EXT_meshopt_compression", "meshoptimizer-compressed"),
-        ("KHR_texture_basisu", "KTX2"),
         ("EXT_made_up", "does not know"),
     ] {
         let mut model = TinyModel::new();
         require(&mut model, &["KHR_mesh_quantization", name]);
-        let message = import(&model).expect_err(name).to_string();
+        let error = import(&model).expect_err(name);
+        assert!(matches!(&error, ImportError::UnsupportedExtension { name: n, .. } if n == name), "{error}");
+        let message = error.to_string();
         assert!(message.contains(name) && message.contains(what), "{message}");
     }
-    // A KTX2 texture has no `source`, so the document does not even parse as core glTF: the
-    // message still names the extension rather than the missing field.
-    let mut model = TinyModel::new();
-    require(&mut model, &["KHR_texture_basisu"]);
-    model.json["textures"] =
-        gltf_json::deserialize::from_str(r#"[{"extensions": {"KHR_texture_basisu": {"source": 0}}}]"#)
-            .unwrap();
-    let error = import(&model).expect_err("KTX2");
-    assert!(
-        matches!(&error, ImportError::UnsupportedExtension { name, .. } if name == "KHR_texture_basisu"),
-        "{error}"
-    );
     // Used but not required: the file is readable without it, and imports.
     let mut model = TinyModel::new();
     model.json["extensionsUsed"] = Value::from(vec!["KHR_materials_variants"]);
     import(&model).expect("an optional extension is ignored");
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_required_texture_format_drops_the_texture_and_keeps_the_character() {
+    // A KTX2 texture has its image in the extension, no core `source`: geometry, skin and clip
+    // import, and the material keeps its colour factor with a warning naming the format.
+    let mut model = TinyModel::new();
+    require(&mut model, &["KHR_texture_basisu"]);
+    model.json["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+    let json = r#"{
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1], "baseColorTexture": {"index": 0}}}],
+        "textures": [{"extensions": {"KHR_texture_basisu": {"source": 0}}}],
+        "images": [{"uri": "texture.ktx2", "mimeType": "image/ktx2"}]
+    }"#;
+    let extra: Value = gltf_json::deserialize::from_str(json).unwrap();
+    for key in ["materials", "textures", "images"] {
+        model.json[key] = extra[key].clone();
+    }
+    let c = import(&model).expect("a KTX2-textured file imports");
+    assert_eq!(c.mesh.positions, from_gltf(&TinyModel::new().gltf(), &mut |_| None).unwrap().mesh.positions);
+    assert_eq!(c.clips.len(), 1);
+    assert!(c.materials[0].base_color_texture.is_none());
+    assert_eq!(c.materials[0].base_color_factor, glam::Vec4::new(1.0, 0.5, 0.25, 1.0));
+    assert!(
+        c.warnings.iter().any(|w| w.contains("KHR_texture_basisu") && w.contains("keeps its colour")),
+        "{:?}",
+        c.warnings
+    );
 }

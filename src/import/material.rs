@@ -10,7 +10,7 @@ use gltf_json::validation::Checked;
 
 use super::accessor::Source;
 use super::container::load_image;
-use super::ImportError;
+use super::{ImportError, TEXTURE_FORMAT_EXTENSIONS};
 use crate::character::{AlphaMode, Material, TextureImage};
 
 /// Every material of the file.
@@ -45,11 +45,30 @@ pub(crate) fn read_materials(
                         info.tex_coord
                     ));
                 }
-                match load_image(src.root, src.buffers, texture.source.value(), resolve)? {
-                    Ok((bytes, mime_type)) => Some(TextureImage { bytes, mime_type }),
-                    Err(reason) => {
-                        warnings.push(format!("material '{name}': {reason}; its texture is dropped"));
-                        None
+                if texture.source.value() == u32::MAX as usize {
+                    // gltf-json's marker for "no `source`": the image is only in an extension.
+                    let formats: Vec<&str> = (src.root.extensions_used.iter())
+                        .map(String::as_str)
+                        .filter(|e| TEXTURE_FORMAT_EXTENSIONS.contains(e))
+                        .collect();
+                    warnings.push(match formats.is_empty() {
+                        true => format!(
+                            "material '{name}': its texture has no image; the material keeps its colour"
+                        ),
+                        false => format!(
+                            "material '{name}': its texture is only in {}, which the viewer does not decode; \
+                             the material keeps its colour",
+                            formats.join(" / ")
+                        ),
+                    });
+                    None
+                } else {
+                    match load_image(src.root, src.buffers, texture.source.value(), resolve)? {
+                        Ok((bytes, mime_type)) => Some(TextureImage { bytes, mime_type }),
+                        Err(reason) => {
+                            warnings.push(format!("material '{name}': {reason}; its texture is dropped"));
+                            None
+                        }
                     }
                 }
             }

@@ -5,9 +5,10 @@
 //! The pipeline, in the order of this module's files:
 //! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
 //!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else). A file
-//!    that requires an extension we cannot read (Draco or meshopt compression, KTX2 textures, …)
-//!    is an [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
-//!    `KHR_texture_transform` (gltfpack's output) are read.
+//!    that requires an extension we cannot read (Draco or meshopt compression, …) is an
+//!    [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
+//!    `KHR_texture_transform` (gltfpack's output) are read; a required texture format we do not
+//!    decode (KTX2, WebP, …) only drops those textures, with a warning.
 //! 2. `scene`: the node tree of the default scene (scene 0 if none is marked): parents, cycle
 //!    checks, rest transforms, and the skeleton nodes (joints, mesh nodes, their ancestors).
 //! 3. `geometry`: every triangle primitive of every mesh node merged into one indexed mesh in bind
@@ -100,6 +101,12 @@ pub enum ImportError {
 /// applied to the primitive's uvs (`geometry`).
 const READ_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", "KHR_texture_transform"];
 
+/// Texture formats the viewer does not decode. A file may require them: the geometry, skins and
+/// clips are all there, so it imports and `material` drops each texture that has no core
+/// (PNG/JPEG) image, with a warning; its material keeps its colour factor.
+pub(crate) const TEXTURE_FORMAT_EXTENSIONS: [&str; 4] =
+    ["KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif", "MSFT_texture_dds"];
+
 /// The error for a required extension that is not in [`READ_EXTENSIONS`], saying what it is and
 /// what a user can do.
 fn unsupported_extension(name: &str) -> ImportError {
@@ -125,7 +132,9 @@ fn unsupported_extension(name: &str) -> ImportError {
 fn first_unreadable(required: &[String]) -> Option<ImportError> {
     required
         .iter()
-        .find(|name| !READ_EXTENSIONS.contains(&name.as_str()))
+        .find(|name| {
+            !READ_EXTENSIONS.contains(&name.as_str()) && !TEXTURE_FORMAT_EXTENSIONS.contains(&name.as_str())
+        })
         .map(|name| unsupported_extension(name))
 }
 
@@ -213,13 +222,18 @@ fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
     let mut errors = Vec::new();
     root.validate(&root, gltf_json::Path::new, &mut |path, error| {
         let path = path();
+        let at = path.as_str();
         // POSITION's min/max are required by the spec but only serve culling; we compute bounds
         // ourselves, so files that omit them still load.
+        let bounds = at.ends_with(".min") || at.ends_with(".max");
         // Required extensions were checked above against what we read.
-        if !(path.as_str().ends_with(".min")
-            || path.as_str().ends_with(".max")
-            || path.as_str().starts_with("extensionsRequired"))
-        {
+        let required = at.starts_with("extensionsRequired");
+        // A texture whose image is only in a texture-format extension has no core `source`;
+        // `material` drops it with a warning.
+        let textureless = at.starts_with("textures[")
+            && at.ends_with("].source")
+            && error == gltf_json::validation::Error::Missing;
+        if !(bounds || required || textureless) {
             errors.push((path, error));
         }
     });
