@@ -107,18 +107,14 @@ const READ_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", "KHR_texture_transf
 pub(crate) const TEXTURE_FORMAT_EXTENSIONS: [&str; 4] =
     ["KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif", "MSFT_texture_dds"];
 
-/// The error for a required extension that is not in [`READ_EXTENSIONS`], saying what it is and
-/// what a user can do.
+/// The error for a required extension that is neither in [`READ_EXTENSIONS`] nor a texture
+/// format, saying what it is and what a user can do.
 fn unsupported_extension(name: &str) -> ImportError {
     let recompress = "export or convert the file without it (for example gltf-transform or \
                       Blender's glTF exporter with compression off)";
     let (what, advice) = match name {
         "KHR_draco_mesh_compression" => ("Draco-compressed geometry", recompress),
         "EXT_meshopt_compression" => ("meshoptimizer-compressed buffers", recompress),
-        "KHR_texture_basisu" => ("KTX2 / Basis Universal textures", "convert its textures to PNG or JPEG"),
-        "EXT_texture_webp" | "EXT_texture_avif" => {
-            ("WebP or AVIF textures", "convert its textures to PNG or JPEG")
-        }
         _ => ("an extension the viewer does not know", "export the file without it"),
     };
     ImportError::UnsupportedExtension {
@@ -186,21 +182,8 @@ pub fn from_bytes(
 fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
     // A UTF-8 byte order mark is not JSON, but some tools write one.
     let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
-    let root: gltf_json::Root = match gltf_json::deserialize::from_slice(json) {
-        Ok(root) => root,
-        Err(e) => {
-            // A required extension may be why (a KTX2 texture has no `source`): say so instead.
-            let value: Result<gltf_json::Value, _> = gltf_json::deserialize::from_slice(json);
-            let required = value.ok().and_then(|v| {
-                let names = v.get("extensionsRequired")?.as_array()?.iter();
-                Some(names.filter_map(|n| n.as_str().map(str::to_string)).collect::<Vec<_>>())
-            });
-            return Err(required
-                .as_deref()
-                .and_then(first_unreadable)
-                .unwrap_or(ImportError::Json(e.to_string())));
-        }
-    };
+    let root: gltf_json::Root =
+        gltf_json::deserialize::from_slice(json).map_err(|e| ImportError::Json(e.to_string()))?;
     if let Some(error) = first_unreadable(&root.extensions_required) {
         return Err(error);
     }
