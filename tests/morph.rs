@@ -11,6 +11,7 @@ use clod_viewer::clod::bytes::{decode, encode, ClodBytesError};
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import::from_gltf;
 use clod_viewer::morph::{MorphDeltas, MorphTarget};
+use clod_viewer::render::crowd::PosePalette;
 use clod_viewer::simplify::CollapseMode;
 use clod_viewer::{import, Character};
 use glam::Vec3;
@@ -139,6 +140,36 @@ fn targets_deltas_and_default_weights_import_exactly() {
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn crowd_palette_rows_carry_the_clips_weights_at_their_time() {
+    let c = grid();
+    let linear = c.clips.iter().position(|clip| clip.name == "linear").unwrap();
+    let palette = PosePalette::sample(&c, Some(linear));
+    assert_eq!((palette.targets, palette.rows), (2, 30));
+    assert_eq!(palette.weights.len(), 2 * 30);
+    // Row 15 is the clip at 0.5 s, as `morph_weights_at` samples it.
+    assert_eq!(&palette.weights[30..32], &[0.5, 0.25]);
+    for r in 0..palette.rows {
+        let time = r as f32 / 30.0;
+        assert_eq!(
+            &palette.weights[2 * r..2 * r + 2],
+            c.morph_weights_at(&c.clips[linear], time).as_slice(),
+            "row {r}"
+        );
+    }
+    // One texel per row holds both weights; switched off, zeros.
+    assert_eq!(palette.weight_texels_per_row(), 1);
+    let texels = palette.weight_texels(true);
+    assert_eq!(texels.len(), 30);
+    assert_eq!(texels[15], [0.5, 0.25, 0.0, 0.0]);
+    assert!(palette.weight_texels(false).iter().all(|t| *t == [0.0; 4]));
+    // The rest pose: one row of the default weights (the node's).
+    let rest = PosePalette::sample(&c, None);
+    assert_eq!((rest.rows, rest.weights.as_slice()), (1, [0.5, 0.0].as_slice()));
+    assert_eq!(rest.weight_texels(true), vec![[0.5, 0.0, 0.0, 0.0]]);
+}
+
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn clips_sample_weights_in_every_interpolation_and_cpu_skinning_applies_them() {
     let c = grid();

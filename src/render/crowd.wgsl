@@ -3,24 +3,49 @@
 // src/render/gpu/crowd.rs and the records come from src/render/crowd/.
 //
 // Every instance reads its pose from the palette (rows of `model_from_bind` matrices, four texels
-// per column-major matrix, `textureLoad` on both WebGPU and WebGL2), skins its vertex in model
-// space exactly as `vs_level`/`vs_geomorph` do, then turns it about +Y by its heading and moves it
+// per column-major matrix, `textureLoad` on both WebGPU and WebGL2) and its morph weights from the
+// same row of `palette_weights`, morphs and skins its vertex in model space exactly as
+// `vs_level`/`vs_geomorph` do, then turns it about +Y by its heading and moves it
 // into place: `world = R_y(place.w) · skinned + place.xyz`. `camera.clip_from_model` holds
 // `clip_from_world` and `camera.eye_model` the eye in world space. Opacity, dither mode and
 // threshold, geomorph `t` and the level tint are per instance and reach the fragment flat.
 
 @group(3) @binding(0) var palette: texture_2d<f32>;
+// Each palette row's morph-target weights, four per texel (src/render/crowd/palette.rs
+// `weight_texels`): zeros when morphs are off.
+@group(3) @binding(1) var palette_weights: texture_2d<f32>;
 
 // Mirrors `InstanceRaw` in src/render/crowd/draws.rs (tests/shaders.rs compares the layouts).
+// Two locations: the level's vertices and their morph rows take 0..13.
 struct CrowdInstance {
     // xyz: translation after the turn; w: heading, radians.
-    @location(12) place: vec4<f32>,
-    // x: palette row; y: dither mode.
-    @location(13) ids: vec4<u32>,
-    // x: geomorph t; y: opacity; z: dither threshold.
-    @location(14) params: vec4<f32>,
-    @location(15) tint: vec4<f32>,
+    @location(14) place: vec4<f32>,
+    // x: palette row (bits 0..12), dither mode (12..16), opacity unorm16 (16..32); y: geomorph t
+    // (f32 bits); z: dither threshold (f32 bits); w: level tint, unorm8 RGBA, red in the low byte.
+    @location(15) packed: vec4<u32>,
 };
+
+// `InstanceDraw` in draws.rs: the record unpacked as `InstanceRaw::draw` unpacks it.
+struct CrowdDraw {
+    row: u32,
+    dither_mode: u32,
+    // x: geomorph t; y: opacity; z: dither threshold.
+    params: vec4<f32>,
+    tint: vec4<f32>,
+};
+
+fn crowd_draw(i: CrowdInstance) -> CrowdDraw {
+    let ids = i.packed.x;
+    let tint = i.packed.w;
+    var out: CrowdDraw;
+    out.row = ids & 0xfffu;
+    out.dither_mode = (ids >> 12u) & 15u;
+    out.params = vec4<f32>(bitcast<f32>(i.packed.y), f32(ids >> 16u) / 65535.0, bitcast<f32>(i.packed.z), 0.0);
+    out.tint = vec4<f32>(
+        f32(tint & 255u), f32((tint >> 8u) & 255u), f32((tint >> 16u) & 255u), f32(tint >> 24u)
+    ) / 255.0;
+    return out;
+}
 
 struct CrowdVaryings {
     @builtin(position) clip: vec4<f32>,
@@ -59,7 +84,29 @@ fn turned(v: vec3<f32>, heading: f32) -> vec3<f32> {
     return vec3<f32>(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
 }
 
-fn crowd_finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32>, i: CrowdInstance) -> CrowdVaryings {
+// Target `t`'s weight in palette row `row` (weights past the texture's width read 0).
+fn palette_weight(row: u32, t: u32) -> f32 {
+    let size = textureDimensions(palette_weights);
+    if (t / 4u >= size.x) {
+        return 0.0;
+    }
+    let texel = textureLoad(palette_weights, vec2<i32>(i32(t / 4u), i32(min(row, size.y - 1u))), 0);
+    return texel[t % 4u];
+}
+
+// `morphed` with the weights of the instance's palette row.
+fn crowd_morphed(position: vec3<f32>, normal: vec3<f32>, entries: vec2<u32>, row: u32) -> Morphed {
+    var out = Morphed(position, normal);
+    for (var k = 0u; k < min(entries.y, MAX_MORPH_TARGETS); k++) {
+        let m = morph_entry(entries, k);
+        let w = palette_weight(row, m.target_index);
+        out.position += w * m.dp;
+        out.normal += w * m.dn;
+    }
+    return out;
+}
+
+fn crowd_finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32>, i: CrowdInstance, d: CrowdDraw) -> CrowdVaryings {
     var out: CrowdVaryings;
     let world = turned(position, i.place.w) + i.place.xyz;
     out.clip = camera.clip_from_model * vec4<f32>(world, 1.0);
@@ -67,28 +114,33 @@ fn crowd_finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: ve
     out.normal = turned(normal, i.place.w);
     out.uv = uv;
     out.color = color;
-    out.params = i.params;
-    out.tint = i.tint;
-    out.dither_mode = i.ids.y;
+    out.params = d.params;
+    out.tint = d.tint;
+    out.dither_mode = d.dither_mode;
     return out;
 }
 
 @vertex
-fn vs_crowd_level(v: LevelVertex, i: CrowdInstance) -> CrowdVaryings {
-    let m = palette_blend(i.ids.x, v.joints, v.weights);
-    let p = (m * vec4<f32>(v.position, 1.0)).xyz;
-    let n = (m * vec4<f32>(v.normal, 0.0)).xyz;
-    return crowd_finish(p, n, v.uv, v.color, i);
+fn vs_crowd_level(v: LevelVertex, morph: MorphRow, i: CrowdInstance) -> CrowdVaryings {
+    let d = crowd_draw(i);
+    let b = crowd_morphed(v.position, v.normal, morph.fine, d.row);
+    let m = palette_blend(d.row, v.joints, v.weights);
+    let p = (m * vec4<f32>(b.position, 1.0)).xyz;
+    let n = (m * vec4<f32>(b.normal, 0.0)).xyz;
+    return crowd_finish(p, n, v.uv, v.color, i, d);
 }
 
 @vertex
-fn vs_crowd_geomorph(v: LevelVertex, a: AncestorVertex, i: CrowdInstance) -> CrowdVaryings {
-    let fine = palette_blend(i.ids.x, v.joints, v.weights);
-    let coarse = palette_blend(i.ids.x, a.joints, a.weights);
-    let t = i.params.x;
-    let p = mix((fine * vec4<f32>(v.position, 1.0)).xyz, (coarse * vec4<f32>(a.position, 1.0)).xyz, t);
-    let n = mix((fine * vec4<f32>(v.normal, 0.0)).xyz, (coarse * vec4<f32>(a.normal, 0.0)).xyz, t);
-    return crowd_finish(p, n, mix(v.uv, a.uv, t), mix(v.color, a.color, t), i);
+fn vs_crowd_geomorph(v: LevelVertex, a: AncestorVertex, morph: MorphRows, i: CrowdInstance) -> CrowdVaryings {
+    let d = crowd_draw(i);
+    let fb = crowd_morphed(v.position, v.normal, morph.fine, d.row);
+    let cb = crowd_morphed(a.position, a.normal, morph.coarse, d.row);
+    let fine = palette_blend(d.row, v.joints, v.weights);
+    let coarse = palette_blend(d.row, a.joints, a.weights);
+    let t = d.params.x;
+    let p = mix((fine * vec4<f32>(fb.position, 1.0)).xyz, (coarse * vec4<f32>(cb.position, 1.0)).xyz, t);
+    let n = mix((fine * vec4<f32>(fb.normal, 0.0)).xyz, (coarse * vec4<f32>(cb.normal, 0.0)).xyz, t);
+    return crowd_finish(p, n, mix(v.uv, a.uv, t), mix(v.color, a.color, t), i, d);
 }
 
 @fragment

@@ -140,18 +140,31 @@ fn morph_texel(i: u32) -> vec4<f32> {
     return textureLoad(morph_deltas, vec2<i32>(i32(i % width), i32(i / width)), 0);
 }
 
+// One morph entry: a target's position and normal deltas for one vertex.
+struct MorphEntry {
+    dp: vec3<f32>,
+    dn: vec3<f32>,
+    target_index: u32,
+};
+
+// Entry `k` of a vertex's `row` (k < row.y).
+fn morph_entry(row: vec2<u32>, k: u32) -> MorphEntry {
+    let e = row.x + k;
+    let dp = morph_texel(2u * e);
+    let dn = morph_texel(2u * e + 1u);
+    return MorphEntry(dp.xyz, dn.xyz, min(u32(dp.w), MAX_MORPH_TARGETS - 1u));
+}
+
 // glTF morphing (§3.7.2.2), before skinning: p + Σ w_t Δp_t and n + Σ w_t Δn_t over the vertex's
-// entries. A vertex has at most one entry per target, hence the loop's bound.
+// entries, with the frame's weights. A vertex has at most one entry per target, hence the loop's
+// bound. (`crowd_morphed` in crowd.wgsl is the same sum with each instance's weights.)
 fn morphed(position: vec3<f32>, normal: vec3<f32>, row: vec2<u32>) -> Morphed {
     var out = Morphed(position, normal);
     for (var k = 0u; k < min(row.y, MAX_MORPH_TARGETS); k++) {
-        let e = row.x + k;
-        let dp = morph_texel(2u * e);
-        let dn = morph_texel(2u * e + 1u);
-        let t = min(u32(dp.w), MAX_MORPH_TARGETS - 1u);
-        let w = morph_weights.weights[t / 4u][t % 4u];
-        out.position += w * dp.xyz;
-        out.normal += w * dn.xyz;
+        let m = morph_entry(row, k);
+        let w = morph_weights.weights[m.target_index / 4u][m.target_index % 4u];
+        out.position += w * m.dp;
+        out.normal += w * m.dn;
     }
     return out;
 }

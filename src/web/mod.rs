@@ -455,7 +455,7 @@ impl Inner {
         self.upload_morph_pairs();
         self.camera_raw = match &self.model.crowd {
             Some(c) => {
-                self.renderer.set_crowd_palette(&c.palette);
+                self.renderer.set_crowd_palette(&c.palette, self.model.settings.morphs);
                 self.renderer.set_crowd_instances(&c.frame);
                 crowd_camera_raw(&c.crowd)
             }

@@ -1,7 +1,8 @@
 // (10) Morph targets on the GPU: the robot's face (assets/robot.glb, three face targets driven by
 // its "Talk" clip) changes the picture when the clip's weights apply and not otherwise, in every
 // view, mid-geomorph included (both ends are morphed); views forced to geomorphing stay
-// identical with morphs on. On WebGPU and WebGL2.
+// identical with morphs on. Then the same in crowd mode, where each instance reads its weights
+// from its own pose palette row. On WebGPU and WebGL2.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch, openPage, frame, readPixels, crop, clock, midTransition, savePng, SMALL_VIEWPORT } from './helpers.mjs';
@@ -53,6 +54,36 @@ for (const backend of ['webgpu', 'webgl2']) {
         }
       }
     }
+    await page.close();
+  });
+}
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`${backend}: crowd instances move their faces with their own clip time's morph weights`, async () => {
+    const page = await openPage(browser, { model: '/assets/robot.glb', ...(backend === 'webgl2' ? { backend } : {}) }, SMALL_VIEWPORT);
+    const c = clock();
+    let state = await frame(page, c.now, { clip: 'Talk', meter: false });
+    // The crowd starts when the levels arrive.
+    for (let i = 0; i < 10 && state.levels.length < 2; i++) state = await frame(page, c.tick(200));
+    // Every instance at full detail (the front row's faces are a few pixels each), paused.
+    const crowd = { mode: 'crowd', count: 60, crowdLod: false, paused: true, time: 1.0, overlay: 'none', distanceMode: 'manual' };
+    state = await frame(page, c.now, crowd);
+    for (let i = 0; i < 2; i++) state = await frame(page, c.tick(300));
+    assert.equal(state.mode, 'crowd');
+    assert.equal(state.backend, backend);
+    assert.equal(state.errors.length, 0, state.errors.join('\n'));
+    const on = await readPixels(page);
+    state = await frame(page, c.now, { morphs: false });
+    const off = await readPixels(page);
+    await savePng(`/tmp/clod-morph-crowd-${backend}.png`, on);
+    for (const view of state.views) {
+      const n = differing(crop(on, view.rect), crop(off, view.rect));
+      assert.ok(n >= 30, `${view.method} view: ${n} pixels change when the crowd's morph weights apply`);
+    }
+    // Morphs back on: the same picture as before (the weights come back with the palette).
+    await frame(page, c.now, { morphs: true });
+    const again = await readPixels(page);
+    for (const view of state.views) assert.equal(differing(crop(on, view.rect), crop(again, view.rect)), 0, view.method);
     await page.close();
   });
 }

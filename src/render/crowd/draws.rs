@@ -15,23 +15,81 @@ use super::Crowd;
 use crate::render::overlay::{draw_tint, Overlay};
 use crate::render::plan::{plan_view, DrawCall, Method, PassKind};
 
-/// One instance in one draw (`CrowdInstance` in `crowd.wgsl`, vertex locations 12..15).
+/// One instance in one draw (`CrowdInstance` in `crowd.wgsl`, vertex locations 14 and 15).
+///
+/// Two attributes, not four: the level's vertices take locations 0..=13 (both ends of a geomorph
+/// and their morph rows), and WebGL2 guarantees 16. So everything but the placement is packed into
+/// one `vec4<u32>` (see [`InstanceRaw::new`]); `crowd.wgsl`'s `crowd_draw` unpacks it exactly as
+/// [`InstanceRaw::draw`] does.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct InstanceRaw {
     /// xyz: translation after the turn (world space); w: heading, radians about +Y.
     pub place: [f32; 4],
-    /// x: palette row of its pose; y: dither mode (0 none, 1 keep below the threshold, 2 the rest).
-    pub ids: [u32; 4],
-    /// x: geomorph `t` towards the ancestors one level coarser; y: opacity; z: dither threshold.
-    pub params: [f32; 4],
-    /// Level overlay: linear RGB and the share of the surface colour it replaces (0: none).
+    /// x: palette row (bits 0..12), dither mode (bits 12..16), opacity as unorm16 (bits 16..32);
+    /// y: geomorph `t` (f32 bits); z: dither threshold (f32 bits); w: level tint as unorm8 RGBA
+    /// (red in the low byte).
+    pub packed: [u32; 4],
+}
+
+/// What one record asks of its draw, unpacked ([`InstanceRaw::new`], [`InstanceRaw::draw`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InstanceDraw {
+    /// Palette row of the instance's pose (below 4096; [`super::palette::MAX_ROWS`] is 2048).
+    pub row: u32,
+    /// 0 none, 1 keep below the threshold, 2 the rest.
+    pub dither_mode: u32,
+    /// Geomorph `t` towards the ancestors one level coarser, kept to the bit: 0 and 1 are exact ends.
+    pub t: f32,
+    /// 0..=1, to 1/65535.
+    pub opacity: f32,
+    /// Kept to the bit, like the single view's, so both dither the same pixels.
+    pub dither_threshold: f32,
+    /// Level overlay: linear RGB and the share of the surface colour it replaces (0: none), to 1/255.
     pub tint: [f32; 4],
+}
+
+const ROW_BITS: u32 = 12;
+const _: () = assert!(super::palette::MAX_ROWS <= 1 << ROW_BITS);
+
+/// `x` in 0..=1 as an integer of 0..=`max` (NaN gives 0: Rust's float-to-int cast saturates).
+fn unorm(x: f32, max: f32) -> u32 {
+    (x.clamp(0.0, 1.0) * max).round() as u32
+}
+
+impl InstanceRaw {
+    /// The record of `draw` for an instance placed at `place`.
+    pub fn new(place: [f32; 4], draw: &InstanceDraw) -> Self {
+        let ids = draw.row.min((1 << ROW_BITS) - 1) | (draw.dither_mode.min(15) << ROW_BITS);
+        let tint = draw.tint.iter().enumerate().fold(0, |acc, (c, &x)| acc | (unorm(x, 255.0) << (8 * c)));
+        Self {
+            place,
+            packed: [
+                ids | (unorm(draw.opacity, 65535.0) << 16),
+                draw.t.to_bits(),
+                draw.dither_threshold.to_bits(),
+                tint,
+            ],
+        }
+    }
+
+    /// The draw this record asks for, as the shader reads it.
+    pub fn draw(&self) -> InstanceDraw {
+        let [ids, t, threshold, tint] = self.packed;
+        InstanceDraw {
+            row: ids & ((1 << ROW_BITS) - 1),
+            dither_mode: (ids >> ROW_BITS) & 15,
+            t: f32::from_bits(t),
+            opacity: (ids >> 16) as f32 / 65535.0,
+            dither_threshold: f32::from_bits(threshold),
+            tint: std::array::from_fn(|c| ((tint >> (8 * c)) & 255) as f32 / 255.0),
+        }
+    }
 }
 
 /// Byte offset of each [`InstanceRaw`] field, in order: what the vertex layout reads and
 /// `tests/shaders.rs` compares with naga's layout of `CrowdInstance`.
-pub const INSTANCE_OFFSETS: [u64; 4] = [0, 16, 32, 48];
+pub const INSTANCE_OFFSETS: [u64; 2] = [0, 16];
 
 /// One instanced draw of a view: `count` records from `first` of the frame's instance array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,12 +177,17 @@ pub(super) fn build(
             let place = crowd.placement(instance).to_array();
             for (step, d) in plan_view(method, &instance.transition).draws.iter().enumerate() {
                 triangles += triangles_of(d.level);
-                let raw = InstanceRaw {
+                let raw = InstanceRaw::new(
                     place,
-                    ids: [row, d.dither_mode, 0, 0],
-                    params: [d.morph.map_or(0.0, |m| m.t), d.opacity, d.dither_threshold, 0.0],
-                    tint: draw_tint(overlay, d.level, d.morph),
-                };
+                    &InstanceDraw {
+                        row,
+                        dither_mode: d.dither_mode,
+                        t: d.morph.map_or(0.0, |m| m.t),
+                        opacity: d.opacity,
+                        dither_threshold: d.dither_threshold,
+                        tint: draw_tint(overlay, d.level, d.morph),
+                    },
+                );
                 records.push((group_key(step, d), raw));
             }
         }
@@ -137,11 +200,10 @@ pub(super) fn build(
     }
     // The reference: every drawn instance at full detail, as a popping view at rest on level 0.
     let first = frame.instances.len() as u32;
-    frame.instances.extend(visible.iter().zip(rows).map(|(&k, &row)| InstanceRaw {
-        place: crowd.placement(&crowd.instances[k]).to_array(),
-        ids: [row, 0, 0, 0],
-        params: [0.0, 1.0, 0.0, 0.0],
-        tint: draw_tint(overlay, 0, None),
+    frame.instances.extend(visible.iter().zip(rows).map(|(&k, &row)| {
+        let draw =
+            InstanceDraw { row, opacity: 1.0, tint: draw_tint(overlay, 0, None), ..InstanceDraw::default() };
+        InstanceRaw::new(crowd.placement(&crowd.instances[k]).to_array(), &draw)
     }));
     if !visible.is_empty() {
         frame.reference = vec![InstancedDraw {

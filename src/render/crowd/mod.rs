@@ -29,7 +29,7 @@ use super::camera::FOVY;
 use super::plan::Method;
 use super::schedule::{advance_time, select_level, Schedule, Transition, TransitionMode};
 use crate::metrics::SplitMix64;
-pub use draws::{CrowdFrame, CrowdStats, InstanceRaw, InstancedDraw, INSTANCE_OFFSETS};
+pub use draws::{CrowdFrame, CrowdStats, InstanceDraw, InstanceRaw, InstancedDraw, INSTANCE_OFFSETS};
 pub use palette::PosePalette;
 
 /// Most instances a crowd has: 4,096 instances of three views' records are 0.8 MB per frame.

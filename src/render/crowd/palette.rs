@@ -3,7 +3,9 @@
 //! row nearest its own clip time instead of evaluating the skeleton. One row costs
 //! `joints × 64` bytes; the GPU holds the palette as an `rgba32float` texture of `4 × joints`
 //! texels by `rows` (four texels per column-major matrix), which WebGPU and WebGL2 both read with
-//! `textureLoad`.
+//! `textureLoad`. Each row also holds the clip's morph-target weights at that time (glTF §3.7.2.2,
+//! over the character's default weights), a second texture of `⌈targets / 4⌉` texels by `rows`,
+//! so an instance's face moves with its own clip time as its skeleton does.
 
 use glam::Mat4;
 
@@ -26,6 +28,10 @@ pub struct PosePalette {
     pub duration: f32,
     /// `rows × joints` matrices, row after row.
     pub matrices: Vec<Mat4>,
+    /// Morph targets per row (the character's, 0 when it has none).
+    pub targets: usize,
+    /// `rows × targets` morph weights, row after row.
+    pub weights: Vec<f32>,
     /// The clip asked for (`None`: the rest pose; a clip that does not exist or lasts no time
     /// also gives the rest pose, and is kept here so that it is not sampled again).
     pub clip: Option<usize>,
@@ -35,21 +41,26 @@ impl PosePalette {
     /// Samples `clip` of `character` (`None`, or a clip index out of range, gives the rest pose).
     pub fn sample(character: &Character, clip: Option<usize>) -> Self {
         let joints = character.skeleton.joints.len().max(1);
+        let targets = character.morph_targets.len();
         let clip_ref = clip.and_then(|c| character.clips.get(c)).filter(|c| c.duration() > 0.0);
         let Some(c) = clip_ref else {
             let mut matrices = character.skin_matrices(&character.skeleton.rest_pose());
             matrices.resize(joints, Mat4::IDENTITY);
-            return Self { joints, rows: 1, duration: 0.0, matrices, clip };
+            let weights = character.default_morph_weights();
+            return Self { joints, rows: 1, duration: 0.0, matrices, targets, weights, clip };
         };
         let duration = c.duration();
         let rows = ((duration * PALETTE_RATE).ceil() as usize).clamp(1, MAX_ROWS);
         let mut matrices = Vec::with_capacity(rows * joints);
+        let mut weights = Vec::with_capacity(rows * targets);
         for r in 0..rows {
-            let mut row = character.skin_matrices(&character.pose_at(c, r as f32 / rows as f32 * duration));
+            let time = r as f32 / rows as f32 * duration;
+            let mut row = character.skin_matrices(&character.pose_at(c, time));
             row.resize(joints, Mat4::IDENTITY);
             matrices.extend(row);
+            weights.extend(character.morph_weights_at(c, time));
         }
-        Self { joints, rows, duration, matrices, clip }
+        Self { joints, rows, duration, matrices, targets, weights, clip }
     }
 
     /// The row nearest clip time `time` (seconds, looping; any finite or infinite value).
@@ -65,5 +76,27 @@ impl PosePalette {
     /// columns side by side.
     pub fn texels(&self) -> Vec<[f32; 4]> {
         self.matrices.iter().flat_map(|m| m.to_cols_array_2d()).collect()
+    }
+
+    /// Texels per row of the weights texture: four weights each, at least one (a texture cannot
+    /// be empty).
+    pub fn weight_texels_per_row(&self) -> usize {
+        self.targets.div_ceil(4).max(1)
+    }
+
+    /// The morph weights as texels: `rows` rows of [`Self::weight_texels_per_row`] RGBA32F texels,
+    /// target `t` at texel `t / 4`, channel `t % 4`; zero past the last target, and everywhere when
+    /// `apply` is false (morphs switched off, or more targets than the renderer binds).
+    pub fn weight_texels(&self, apply: bool) -> Vec<[f32; 4]> {
+        let width = self.weight_texels_per_row();
+        let mut texels = vec![[0.0; 4]; width * self.rows];
+        if apply && self.targets > 0 {
+            for (r, row) in self.weights.chunks_exact(self.targets).enumerate() {
+                for (t, &w) in row.iter().enumerate() {
+                    texels[r * width + t / 4][t % 4] = w;
+                }
+            }
+        }
+        texels
     }
 }

@@ -14,7 +14,15 @@ const METHODS: [Method; 3] =
     [Method::Popping, Method::AlphaBlend(BlendVariant::OpaqueFirst), Method::Geomorph];
 
 fn palette() -> PosePalette {
-    PosePalette { joints: 1, rows: 30, duration: 1.0, matrices: vec![Mat4::IDENTITY; 30], clip: Some(0) }
+    PosePalette {
+        joints: 1,
+        rows: 30,
+        duration: 1.0,
+        matrices: vec![Mat4::IDENTITY; 30],
+        targets: 0,
+        weights: Vec::new(),
+        clip: Some(0),
+    }
 }
 
 fn params() -> CrowdParams {
@@ -186,11 +194,57 @@ fn palette_rows_loop_with_the_clip() {
 
 #[test]
 fn instance_record_layout_is_what_the_vertex_layout_reads() {
-    assert_eq!(std::mem::size_of::<InstanceRaw>(), 64);
+    assert_eq!(std::mem::size_of::<InstanceRaw>(), 32);
     assert_eq!(std::mem::offset_of!(InstanceRaw, place) as u64, draws::INSTANCE_OFFSETS[0]);
-    assert_eq!(std::mem::offset_of!(InstanceRaw, ids) as u64, draws::INSTANCE_OFFSETS[1]);
-    assert_eq!(std::mem::offset_of!(InstanceRaw, params) as u64, draws::INSTANCE_OFFSETS[2]);
-    assert_eq!(std::mem::offset_of!(InstanceRaw, tint) as u64, draws::INSTANCE_OFFSETS[3]);
+    assert_eq!(std::mem::offset_of!(InstanceRaw, packed) as u64, draws::INSTANCE_OFFSETS[1]);
+}
+
+#[test]
+fn instance_records_pack_what_the_draw_asks_and_keep_t_and_threshold_to_the_bit() {
+    let draw = InstanceDraw {
+        row: 2047,
+        dither_mode: 2,
+        t: 0.123_456_79,
+        opacity: 0.25,
+        dither_threshold: 0.501,
+        tint: [1.0, 0.0, 0.2, 0.35],
+    };
+    let raw = InstanceRaw::new([1.0, 2.0, 3.0, 0.5], &draw);
+    assert_eq!(raw.place, [1.0, 2.0, 3.0, 0.5]);
+    let back = raw.draw();
+    assert_eq!((back.row, back.dither_mode), (2047, 2));
+    assert_eq!(back.t.to_bits(), draw.t.to_bits());
+    assert_eq!(back.dither_threshold.to_bits(), draw.dither_threshold.to_bits());
+    assert!((back.opacity - 0.25).abs() <= 0.5 / 65535.0, "{}", back.opacity);
+    for c in 0..4 {
+        assert!((back.tint[c] - draw.tint[c]).abs() <= 0.5 / 255.0, "{:?}", back.tint);
+    }
+    // The ends are exact; out-of-range and NaN inputs clamp instead of spilling into other fields.
+    let ends =
+        InstanceRaw::new([0.0; 4], &InstanceDraw { opacity: 1.0, t: 1.0, ..InstanceDraw::default() }).draw();
+    assert_eq!((ends.opacity, ends.t, ends.row, ends.dither_mode), (1.0, 1.0, 0, 0));
+    let wild = InstanceDraw {
+        row: u32::MAX,
+        dither_mode: 99,
+        opacity: f32::NAN,
+        tint: [2.0, -1.0, f32::NAN, 0.0],
+        ..draw
+    };
+    let wild = InstanceRaw::new([0.0; 4], &wild).draw();
+    assert_eq!((wild.row, wild.dither_mode, wild.opacity), (4095, 15, 0.0));
+    assert_eq!(wild.tint, [1.0, 0.0, 0.0, 0.0]);
+}
+
+#[test]
+fn every_record_of_a_frame_unpacks_to_a_row_and_an_opacity_the_frame_asked_for() {
+    let mut c = crowd(300, 21);
+    let f = run(&mut c, 3.0, &METHODS);
+    assert!(!f.instances.is_empty());
+    for raw in &f.instances {
+        let d = raw.draw();
+        assert!(d.row < 30, "row {}", d.row);
+        assert!(d.dither_mode <= 2 && (0.0..=1.0).contains(&d.opacity) && (0.0..=1.0).contains(&d.t));
+    }
 }
 
 #[test]

@@ -1,5 +1,5 @@
-//! The crowd's GPU side: the pose palette as an `rgba32float` texture (bind group 3 of
-//! `crowd.wgsl`), one vertex buffer of instance records rewritten each frame, and the instanced
+//! The crowd's GPU side: the pose palette as two `rgba32float` textures, joint matrices and morph
+//! weights (bind group 3 of `crowd.wgsl`), one vertex buffer of instance records rewritten each frame, and the instanced
 //! draws of a view: per [`InstancedDraw`], the level's own vertex and index buffers, the
 //! records' range as the instance buffer, one `draw_indexed` per material range.
 
@@ -15,8 +15,8 @@ pub(super) struct CrowdGpu {
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
     palette_layout: wgpu::BindGroupLayout,
     palette_group: wgpu::BindGroup,
-    /// What the palette texture holds: joints, rows and clip.
-    palette_key: (usize, usize, Option<usize>),
+    /// What the palette textures hold: joints, rows, clip and whether the weights apply.
+    palette_key: PaletteKey,
     instances: wgpu::Buffer,
     /// Records `instances` holds.
     capacity: u64,
@@ -25,25 +25,40 @@ pub(super) struct CrowdGpu {
     ground: wgpu::Buffer,
 }
 
+type PaletteKey = (usize, usize, Option<usize>, bool);
+
 fn palette_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("crowd palette"),
-        entries: &[float_texture_entry(0)],
+        entries: &[float_texture_entry(0), float_texture_entry(1)],
     })
 }
 
+/// The palette's bind group: its matrices, and its morph weights or zeros where `morphs` is false.
 fn palette_group(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     layout: &wgpu::BindGroupLayout,
     palette: &PosePalette,
+    morphs: bool,
 ) -> wgpu::BindGroup {
-    let (width, height) = (4 * palette.joints as u32, palette.rows as u32);
-    let view = float_texture(device, queue, "crowd palette", width, height, &palette.texels());
+    let rows = palette.rows as u32;
+    let matrices =
+        float_texture(device, queue, "crowd palette", 4 * palette.joints as u32, rows, &palette.texels());
+    let weights = float_texture(
+        device,
+        queue,
+        "crowd morph weights",
+        palette.weight_texels_per_row() as u32,
+        rows,
+        &palette.weight_texels(morphs),
+    );
+    let entry =
+        |binding, view| wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) };
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("crowd palette"),
         layout,
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+        entries: &[entry(0, &matrices), entry(1, &weights)],
     })
 }
 
@@ -62,14 +77,17 @@ impl Renderer {
         self.crowd.is_some()
     }
 
-    /// Uploads `palette` for the crowd (making the crowd's pipelines on first use); a palette
-    /// equal in joints, rows and clip to the one uploaded is not uploaded again.
-    pub fn set_crowd_palette(&mut self, palette: &PosePalette) {
-        let key = (palette.joints, palette.rows, palette.clip);
+    /// Uploads `palette` for the crowd (making the crowd's pipelines on first use), its morph
+    /// weights applied when `morphs` is true and the renderer binds the character's targets; a
+    /// palette equal in joints, rows, clip and that choice to the one uploaded is not uploaded
+    /// again.
+    pub fn set_crowd_palette(&mut self, palette: &PosePalette, morphs: bool) {
+        let morphs = morphs && !self.morphs_dropped;
+        let key = (palette.joints, palette.rows, palette.clip, morphs);
         if let Some(crowd) = &mut self.crowd {
             if crowd.palette_key != key {
                 crowd.palette_group =
-                    palette_group(&self.device, &self.queue, &crowd.palette_layout, palette);
+                    palette_group(&self.device, &self.queue, &crowd.palette_layout, palette, morphs);
                 crowd.palette_key = key;
             }
             return;
@@ -84,7 +102,7 @@ impl Renderer {
         );
         self.crowd = Some(CrowdGpu {
             pipelines,
-            palette_group: palette_group(&self.device, &self.queue, &layout, palette),
+            palette_group: palette_group(&self.device, &self.queue, &layout, palette, morphs),
             palette_layout: layout,
             palette_key: key,
             instances: instance_buffer(&self.device, FIRST_CAPACITY),

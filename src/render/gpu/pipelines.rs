@@ -79,6 +79,24 @@ pub(super) fn float_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// The attributes a level's [`GeomorphVertexRaw`] buffer gives its vertex shader: the drawn
+/// vertex (locations 0..=5) and its morph row (12); and for a geomorph also its ancestor (6..=11)
+/// and the ancestor's morph row (13).
+fn level_attributes() -> (Vec<wgpu::VertexAttribute>, Vec<wgpu::VertexAttribute>) {
+    let vertex_size = std::mem::size_of::<VertexRaw>() as u64;
+    let morph_row = |base: u64, location: u32| wgpu::VertexAttribute {
+        format: wgpu::VertexFormat::Uint32x2,
+        offset: base + std::mem::offset_of!(VertexRaw, morph) as u64,
+        shader_location: location,
+    };
+    let mut fine = vertex_attributes(0, 0).to_vec();
+    fine.push(morph_row(0, 12));
+    let mut both = fine.clone();
+    both.extend(vertex_attributes(vertex_size, 6));
+    both.push(morph_row(vertex_size, 13));
+    (fine, both)
+}
+
 /// Vertex attributes of one [`VertexRaw`] at `base` bytes, shader locations from `location`.
 fn vertex_attributes(base: u64, location: u32) -> [wgpu::VertexAttribute; 6] {
     use wgpu::VertexFormat as F;
@@ -126,18 +144,7 @@ pub(super) fn create_pipelines(
         bind_group_layouts: &[Some(&layouts.frame), Some(&layouts.material), Some(&layouts.draw)],
         immediate_size: 0,
     });
-    // Each half's morph row (`VertexRaw::morph`) at locations 12 (drawn vertex) and 13 (ancestor).
-    let vertex_size = std::mem::size_of::<VertexRaw>() as u64;
-    let morph_row = |base: u64, location: u32| wgpu::VertexAttribute {
-        format: wgpu::VertexFormat::Uint32x2,
-        offset: base + std::mem::offset_of!(VertexRaw, morph) as u64,
-        shader_location: location,
-    };
-    let mut fine = vertex_attributes(0, 0).to_vec();
-    fine.push(morph_row(0, 12));
-    let mut both = fine.clone();
-    both.extend(vertex_attributes(vertex_size, 6));
-    both.push(morph_row(vertex_size, 13));
+    let (fine, both) = level_attributes();
     let stride = std::mem::size_of::<GeomorphVertexRaw>() as u64;
     let create = |spec: Spec| {
         let attributes: &[wgpu::VertexAttribute] = if spec.geomorph { &both } else { &fine };
@@ -237,7 +244,7 @@ fn color_target(format: wgpu::TextureFormat, blend: bool) -> wgpu::ColorTargetSt
 
 /// The crowd's shaded pipelines (`crowd.wgsl`), keyed like the single character's: the level's
 /// vertices (slot 0, as [`create_pipelines`] reads them) and one [`InstanceRaw`] per instance
-/// (slot 1, locations 12..15), with the palette texture as bind group 3.
+/// (slot 1, locations 14 and 15), with the palette textures as bind group 3.
 pub(super) fn create_crowd_pipelines(
     device: &wgpu::Device,
     layouts: &BindLayouts,
@@ -260,15 +267,13 @@ pub(super) fn create_crowd_pipelines(
         ],
         immediate_size: 0,
     });
-    let fine = vertex_attributes(0, 0);
-    let mut both = fine.to_vec();
-    both.extend(vertex_attributes(std::mem::size_of::<VertexRaw>() as u64, 6));
-    let formats = [F::Float32x4, F::Uint32x4, F::Float32x4, F::Float32x4];
-    let instance: Vec<wgpu::VertexAttribute> = (0..4)
+    let (fine, both) = level_attributes();
+    let formats = [F::Float32x4, F::Uint32x4];
+    let instance: Vec<wgpu::VertexAttribute> = (0..2)
         .map(|i| wgpu::VertexAttribute {
             format: formats[i],
             offset: INSTANCE_OFFSETS[i],
-            shader_location: 12 + i as u32,
+            shader_location: 14 + i as u32,
         })
         .collect();
     let create = |spec: Spec| {
