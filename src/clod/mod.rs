@@ -248,7 +248,8 @@ pub fn build(
 /// A pure function of the character and the pose, so [`bytes::decode`] recomputes it instead
 /// of storing it.
 pub(crate) struct PoseInput {
-    /// `P0`'s skin matrices; `None` for the bind pose and multi-pose (simplified in bind space).
+    /// `P0`'s skin matrices; `None` for the bind pose and multi-pose (simplified in bind space,
+    /// scaled into model units where the skin holds a change of units).
     skin: Option<Vec<Mat4>>,
     /// Each input vertex's blended skin matrix at `P0` (`None` as `skin`).
     vertex_matrices: Option<Vec<Mat4>>,
@@ -268,15 +269,23 @@ impl PoseInput {
     /// cannot take.
     pub(crate) fn new(character: &Character, pose: &SimplificationPose) -> Result<Self, ClodError> {
         let mesh = &character.mesh;
-        let skin = p0_skin_matrices(character, pose)?;
-        let vertex_matrices = skin.as_deref().map(|skin| poses::vertex_matrices(character, skin));
-        let positions: Vec<Vec3> = match &vertex_matrices {
-            Some(m) => mesh.positions.iter().zip(m).map(|(&b, m)| m.transform_point3(b)).collect(),
-            None => mesh.positions.clone(),
-        };
-        let normals = match &skin {
-            Some(skin) => skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, skin),
-            None => mesh.normals.clone(),
+        let (skin, vertex_matrices, positions, normals) = match p0_skin_matrices(character, pose)? {
+            P0::Bind => (None, None, mesh.positions.clone(), mesh.normals.clone()),
+            P0::Scaled(scale) => {
+                // Every vertex scaled alike, not through its blended matrix: weights that sum to
+                // 1 within an ulp would scale wedges of one position apart by an ulp, and
+                // position classes (bit-identical positions) would split along every seam.
+                let m = Mat4::from_scale(Vec3::splat(scale));
+                let skin = vec![m; character.skeleton.joints.len()];
+                let positions = mesh.positions.iter().map(|&b| b * scale).collect();
+                (Some(skin), Some(vec![m; mesh.vertex_count()]), positions, mesh.normals.clone())
+            }
+            P0::Posed(skin) => {
+                let m = poses::vertex_matrices(character, &skin);
+                let positions = mesh.positions.iter().zip(&m).map(|(&b, m)| m.transform_point3(b)).collect();
+                let normals = skinning::skin_normals(&mesh.normals, &mesh.joints, &mesh.weights, &skin);
+                (Some(skin), Some(m), positions, normals)
+            }
         };
         let triangle_materials = triangle_materials(character);
         let weld = shading::ShadingWeld::new(mesh, &triangle_materials);
@@ -314,18 +323,27 @@ pub(crate) fn articulate(
     Clod { apm, levels, pose, weights, flat }
 }
 
-/// Skin matrices of `P0`, or `None` for the bind pose (all identity) and multi-pose (which
-/// simplifies in the bind pose).
-fn p0_skin_matrices(
-    character: &Character,
-    pose: &SimplificationPose,
-) -> Result<Option<Vec<Mat4>>, ClodError> {
+/// Where `P0` is, as [`p0_skin_matrices`] finds it.
+enum P0 {
+    /// The bind pose as stored (every skin matrix the identity).
+    Bind,
+    /// The bind pose scaled into model units ([`poses::bind_to_model_scale`]).
+    Scaled(f32),
+    /// A clip frame: its skin matrices.
+    Posed(Vec<Mat4>),
+}
+
+/// `P0` of `pose`. The bind pose and multi-pose (which simplifies in the bind pose) are scaled
+/// into model units where the skin holds a change of units ([`poses::bind_to_model_scale`]), so
+/// that costs, attribute weights and level errors are in model units for every pose.
+fn p0_skin_matrices(character: &Character, pose: &SimplificationPose) -> Result<P0, ClodError> {
     match pose {
-        SimplificationPose::Bind | SimplificationPose::MultiPose { .. } => Ok(None),
-        SimplificationPose::MidClip => Ok(character
-            .clips
-            .first()
-            .map(|clip| character.skin_matrices(&character.pose_at(clip, clip.duration() * 0.5)))),
+        SimplificationPose::Bind | SimplificationPose::MultiPose { .. } => {
+            Ok(poses::bind_to_model_scale(character).map_or(P0::Bind, P0::Scaled))
+        }
+        SimplificationPose::MidClip => Ok(character.clips.first().map_or(P0::Bind, |clip| {
+            P0::Posed(character.skin_matrices(&character.pose_at(clip, clip.duration() * 0.5)))
+        })),
         SimplificationPose::ClipFrame { clip, time } => {
             if !time.is_finite() {
                 return Err(ClodError::BadTime(*time));
@@ -334,7 +352,7 @@ fn p0_skin_matrices(
                 name: clip.clone(),
                 available: character.clips.iter().map(|c| c.name.clone()).collect(),
             })?;
-            Ok(Some(character.skin_matrices(&character.pose_at(found, *time))))
+            Ok(P0::Posed(character.skin_matrices(&character.pose_at(found, *time))))
         }
     }
 }

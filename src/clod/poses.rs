@@ -56,6 +56,42 @@ pub fn vertex_matrices(character: &Character, skin: &[Mat4]) -> Vec<Mat4> {
     (0..mesh.vertex_count()).map(|v| blend_matrix(skin, mesh.joints[v], mesh.weights[v])).collect()
 }
 
+/// Relative distance from 1 within which a skin's scale counts as none: f32 skin matrices composed
+/// along a joint chain carry about 1e-6 of round-off, and a change of units is a factor of 2.54
+/// (inches) or more (centimetres, gltfpack's integer grid).
+const UNIT_SCALE_TOLERANCE: f32 = 1e-3;
+
+/// The scale from bind space to model space, when they are not in the same units: `None` for
+/// ordinary skins, whose skin matrices in the rest pose are rotations and translations.
+///
+/// Some files keep the mesh in other units and fold the conversion into the inverse bind
+/// matrices: gltfpack stores positions on an integer grid (`KHR_mesh_quantization`) and scales
+/// them back in the skin; rigs exported in centimetres carry a 0.01 there. Simplifying "in the
+/// bind pose" would then measure areas and attribute weights in grid units while the multi-pose
+/// quadrics measure model units, and level errors would be in grid units. The scale is the
+/// median over vertices of the rest-pose skin matrix of each vertex's strongest joint, measured as
+/// `∛|det L|` (`L`: the linear part), so a few scaled bones (a joint scaled to zero to hide a
+/// prop) do not set it.
+pub fn bind_to_model_scale(character: &Character) -> Option<f32> {
+    let mesh = &character.mesh;
+    let skin = character.skin_matrices(&character.skeleton.rest_pose());
+    let mut scales: Vec<f32> = (0..mesh.vertex_count())
+        .filter_map(|v| {
+            let w = mesh.weights[v];
+            let strongest = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b]))?;
+            let m = skin.get(usize::from(mesh.joints[v][strongest]))?;
+            let scale = Mat3::from_mat4(*m).determinant().abs().cbrt();
+            (scale.is_finite() && scale > 0.0).then_some(scale)
+        })
+        .collect();
+    if scales.is_empty() {
+        return None;
+    }
+    let middle = scales.len() / 2;
+    let (_, &mut median, _) = scales.select_nth_unstable_by(middle, f32::total_cmp);
+    ((median - 1.0).abs() > UNIT_SCALE_TOLERANCE).then_some(median)
+}
+
 /// Skin matrices of every frame a multi-pose build samples: `frames_per_clip` evenly spaced
 /// frames of each clip (the clip's end is left out since loops repeat their start), capped at
 /// [`MAX_FRAMES`] in total by sampling fewer frames per clip.
