@@ -148,3 +148,54 @@ fn smooth_and_uv_seams_are_not_welded() {
     assert_eq!(reps.len(), 30);
     assert!(!weld.flat[..10].iter().any(|&f| f));
 }
+
+/// A unit cube of 8 shared corners and 12 triangles with no NORMAL attribute, as a `.gltf`.
+fn cube_without_normals() -> Vec<u8> {
+    use base64::Engine;
+    let mut buffer = Vec::new();
+    for i in 0..8u32 {
+        for axis in 0..3 {
+            buffer.extend((((i >> axis) & 1) as f32).to_le_bytes());
+        }
+    }
+    // Corner i = x + 2y + 4z; each face two counter-clockwise triangles seen from outside.
+    let faces: [[u16; 4]; 6] =
+        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    for [a, b, c, d] in faces {
+        for i in [a, b, c, a, c, d] {
+            buffer.extend(i.to_le_bytes());
+        }
+    }
+    let uri = base64::engine::general_purpose::STANDARD.encode(&buffer);
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+        "nodes": [{{"mesh": 0}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+        "buffers": [{{"byteLength": 168, "uri": "data:application/octet-stream;base64,{uri}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 96}}, {{"buffer": 0, "byteOffset": 96, "byteLength": 72}}],
+        "accessors": [
+          {{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}},
+          {{"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}}
+        ]}}"#
+    )
+    .into_bytes()
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_mesh_without_normals_imports_flat_shaded_as_the_spec_asks() {
+    let c = clod_viewer::import::from_gltf(&cube_without_normals(), &mut |_| None).expect("the cube imports");
+    let mesh = &c.mesh;
+    // Every face keeps its own four corners (its two triangles share two of them): 24, not 8 or 36.
+    assert_eq!((mesh.triangle_count(), mesh.vertex_count()), (12, 24));
+    for tri in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k] as usize]);
+        let face = (b - a).cross(c - a).normalize();
+        // Outward and axis-aligned: the cube's centre is behind every face.
+        assert!(face.dot(a - Vec3::splat(0.5)) > 0.0, "{face} faces out");
+        for &v in tri {
+            assert_eq!(mesh.normals[v as usize], face, "each corner carries its face's normal");
+        }
+    }
+    assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+}

@@ -66,13 +66,13 @@ fn unskinned_mesh_under_a_joint_is_bound_rigidly() {
     assert_eq!(c.mesh.vertex_count(), 6);
     // Depth-first scene order: `prop` (under root/tip) comes before `tri`.
     assert_eq!(c.mesh.primitives.len(), 2);
-    // prop's rest model_from_node: translate (2, 1, 0), mirror y.
-    assert_eq!(
-        &c.mesh.positions[..3],
-        &[Vec3::new(2.0, 1.0, 0.0), Vec3::new(3.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0)]
-    );
-    // The mirror flips the winding back so the face keeps facing the same way.
-    assert_eq!(&c.mesh.indices[..3], &[0, 2, 1]);
+    // prop's rest model_from_node: translate (2, 1, 0), mirror y. The mirror flips the winding
+    // back so the face keeps facing the same way: the file's corners 0, 1, 2 are drawn 0, 2, 1.
+    // (Without NORMAL the primitive gets flat normals, one vertex per corner in drawing order.)
+    let corners: Vec<Vec3> = c.mesh.indices[..3].iter().map(|&i| c.mesh.positions[i as usize]).collect();
+    assert_eq!(corners, [Vec3::new(2.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0)]);
+    // Its face normal: the mirrored triangle still faces +z.
+    assert!(c.mesh.indices[..3].iter().all(|&i| c.mesh.normals[i as usize] == Vec3::Z));
     let joint = c.mesh.joints[0][0] as usize;
     assert!(c.mesh.joints[..3].iter().all(|j| *j == [joint as u16, 0, 0, 0]));
     assert_eq!(c.mesh.weights[0], [1.0, 0.0, 0.0, 0.0]);

@@ -120,12 +120,25 @@ fn cesium_man() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
-fn fox_corners_are_welded() {
+fn fox_is_flat_shaded_and_its_corners_are_welded_where_they_agree() {
     let Some(c) = load("Fox.glb") else { return };
     assert_eq!(c.mesh.triangle_count(), 576);
-    // 1,728 corners in the file; 434 of them differ in some attribute (skin_reference.py counts
-    // the distinct (position, uv, joints, weights) tuples).
-    assert_eq!(c.mesh.vertex_count(), 434);
+    // 1,728 corners in the file and no NORMAL: each corner gets its face's normal (glTF
+    // §3.7.2.1, flat normals), and no two faces are coplanar neighbours, so every corner stays
+    // its own vertex. 434 distinct (position, uv, joints, weights) tuples (skin_reference.py):
+    // the shading weld of the LOD build finds them again.
+    assert_eq!(c.mesh.vertex_count(), 1728);
+    for tri in c.mesh.indices.chunks_exact(3) {
+        let [a, b, d] = [0, 1, 2].map(|k| c.mesh.positions[tri[k] as usize]);
+        let face = (b - a).cross(d - a).normalize();
+        assert!(tri.iter().all(|&v| c.mesh.normals[v as usize].abs_diff_eq(face, 1e-6)));
+    }
+    let materials = vec![0; 576];
+    let weld = clod_viewer::clod::shading::ShadingWeld::new(&c.mesh, &materials);
+    let mut welded = weld.representative.clone();
+    welded.sort_unstable();
+    welded.dedup();
+    assert_eq!(welded.len(), 434);
     assert_eq!(c.skeleton.joints.len(), 24);
     let clips = clip_summary(&c);
     let names: Vec<&str> = clips.iter().map(|(n, _)| n.as_str()).collect();

@@ -4,6 +4,7 @@
 mod common;
 mod meshgen;
 
+use clod_viewer::clod::shading::ShadingWeld;
 use clod_viewer::simplify::{CollapseMode, Schedule, SimplifyOptions, StopReason};
 use glam::Vec3;
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, torus, Mesh, Rng};
@@ -154,23 +155,24 @@ fn real_models_keep_every_invariant() {
         let Some(bytes) = common::model_bytes(name) else { continue };
         let character = clod_viewer::import::from_glb(&bytes).expect("shared models import");
         let m = &character.mesh;
-        // Normals and uv as attributes, one material per primitive.
+        // Normals and uv as attributes, one material per primitive; flat-shaded vertices welded
+        // across their facets as the LOD build does (Fox has no normals: it comes flat-shaded).
+        let mut materials = vec![0; m.indices.len() / 3];
+        for (p, range) in m.primitives.iter().enumerate() {
+            let first = range.first_index as usize / 3;
+            materials[first..first + range.index_count as usize / 3].fill(p as u32);
+        }
+        let weld = ShadingWeld::new(m, &materials);
         let mut mesh = Mesh {
             positions: m.positions.clone(),
             weights: vec![0.1, 0.1, 0.1, 1.0, 1.0],
-            indices: m.indices.clone(),
+            indices: weld.weld_indices(&m.indices),
+            materials,
             ..Mesh::default()
         };
-        for (v, n) in m.normals.iter().enumerate() {
+        for (v, n) in weld.simplifier_normals(&m.normals).iter().enumerate() {
             let uv = m.uvs.as_ref().map_or([0.0, 0.0], |uvs| uvs[v].to_array());
             mesh.attributes.extend_from_slice(&[n.x, n.y, n.z, uv[0], uv[1]]);
-        }
-        mesh.materials = vec![0; m.indices.len() / 3];
-        for (p, range) in m.primitives.iter().enumerate() {
-            let first = range.first_index as usize / 3;
-            for t in first..first + range.index_count as usize / 3 {
-                mesh.materials[t] = p as u32;
-            }
         }
         let runs = [
             (CollapseMode::Full, Schedule::Passes),

@@ -4,8 +4,10 @@
 //! Per primitive, in order: read and check the vertex attributes and triangles (strips and fans
 //! become lists; points and lines are skipped), resolve skin influences (the four largest of all
 //! JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by decreasing weight,
-//! renormalized to sum 1), weld bit-identical corners of non-indexed primitives, fill missing
-//! normals, move rigid (unskinned) parts into bind space, and append with a [`PrimitiveRange`].
+//! renormalized to sum 1), give a primitive without normals flat ones (one corner per triangle
+//! corner, as the spec asks), weld bit-identical corners of non-indexed primitives, replace
+//! zero-length normals, move rigid (unskinned) parts into bind space, and append with a
+//! [`PrimitiveRange`].
 //!
 //! Morph targets (§3.7.2.2) come along: each target's POSITION and NORMAL deltas (sparse
 //! accessors too) are kept per vertex where non-zero, moved into bind space with their primitive
@@ -132,6 +134,8 @@ pub(crate) fn merge_meshes(
                     }
                 },
             };
+            let (prim, influences) =
+                if prim.normals.is_none() { flat_shaded(prim, influences) } else { (prim, influences) };
             let (prim, influences) = if prim.indexed { (prim, influences) } else { weld(prim, influences) };
             let first_target = morph.targets.len();
             for k in 0..prim.target_count {
@@ -564,6 +568,47 @@ fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
         weights: kept.iter().map(|&v| influences.weights[v]).collect(),
     };
     (welded, influences)
+}
+
+/// A primitive without normals as the spec draws it (§3.7.2.1: "client implementations MUST
+/// calculate flat normals"): one corner per triangle corner, each with its face's normal, as an
+/// unindexed primitive that [`weld`] then merges wherever corners agree in everything (a flat
+/// quad keeps four vertices). The LOD build sees a flat-shaded mesh and keeps it faceted
+/// (`clod::shading`). A degenerate triangle's corners get the area-weighted vertex normals.
+fn flat_shaded(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
+    let corners = &prim.indices;
+    let mut smooth: Option<Vec<Vec3>> = None;
+    let mut normals = Vec::with_capacity(corners.len());
+    for tri in corners.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| prim.positions[tri[k] as usize]);
+        let face = (b - a).cross(c - a).try_normalize();
+        for &v in tri {
+            let fallback =
+                || smooth.get_or_insert_with(|| compute_normals(&prim.positions, corners))[v as usize];
+            normals.push(face.unwrap_or_else(fallback));
+        }
+    }
+    let at = |v: &u32| *v as usize;
+    let flat = Primitive {
+        positions: corners.iter().map(|v| prim.positions[at(v)]).collect(),
+        normals: Some(normals),
+        uvs: prim.uvs.as_ref().map(|uvs| corners.iter().map(|v| uvs[at(v)]).collect()),
+        colors: prim.colors.as_ref().map(|c| corners.iter().map(|v| c[at(v)]).collect()),
+        influence_sets: Vec::new(),
+        indices: (0..corners.len() as u32).collect(),
+        indexed: false,
+        target_count: prim.target_count,
+        morph: if prim.morph.is_empty() {
+            Vec::new()
+        } else {
+            corners.iter().map(|v| prim.morph[at(v)].clone()).collect()
+        },
+    };
+    let influences = Influences {
+        joints: corners.iter().map(|v| influences.joints[at(v)]).collect(),
+        weights: corners.iter().map(|v| influences.weights[at(v)]).collect(),
+    };
+    (flat, influences)
 }
 
 /// Unit normals for a primitive: the file's, with zero-length ones (and missing ones) replaced by
