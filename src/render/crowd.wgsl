@@ -58,12 +58,18 @@ struct CrowdVaryings {
     @location(6) @interpolate(flat) dither_mode: u32,
 };
 
-// Joint `joint`'s matrix in palette row `row`; indices past the palette read its last texel
-// (defence in depth: the records and the importer keep them in range).
+// Joint `joint`'s matrix in palette row `row`: each pose takes the palette's height over the
+// number of poses (the weights texture's height) in texture rows of `width / 4` joints
+// (src/render/crowd/palette.rs). Indices past the palette read its last slot (defence in depth:
+// the records and the importer keep them in range).
 fn palette_matrix(row: u32, joint: u32) -> mat4x4<f32> {
     let size = textureDimensions(palette);
-    let x = i32(min(joint, size.x / 4u - 1u) * 4u);
-    let y = i32(min(row, size.y - 1u));
+    let poses = max(textureDimensions(palette_weights).y, 1u);
+    let per_row = size.x / 4u;
+    let rows_per_pose = max(size.y / poses, 1u);
+    let k = min(joint, per_row * rows_per_pose - 1u);
+    let x = i32((k % per_row) * 4u);
+    let y = i32(min(row, poses - 1u) * rows_per_pose + k / per_row);
     return mat4x4<f32>(
         textureLoad(palette, vec2<i32>(x, y), 0),
         textureLoad(palette, vec2<i32>(x + 1, y), 0),

@@ -5,11 +5,13 @@
 //! hysteresis and transitions, the per-view draw [`plan`], the GPU-ready [`lod_source`] arrays and
 //! the [`uniforms`] that mirror `skin.wgsl` — build and test natively. The wgpu code (`gpu`, behind
 //! the `web` feature) only executes the plan: one render pass, one viewport per view, GPU skinning
-//! from a uniform block of joint matrices (the same on WebGPU and WebGL2, for fairness).
+//! from a texture of joint matrices ([`joint_texture`]; the same on WebGPU and WebGL2, for
+//! fairness).
 
 pub mod camera;
 pub mod crowd;
 pub mod difference;
+pub mod joint_texture;
 pub mod layout;
 pub mod lod_source;
 pub mod meter;

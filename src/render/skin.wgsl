@@ -1,7 +1,8 @@
 // Skinned, lit character for the three LOD views (src/render/gpu.rs binds it; the Rust mirrors of
 // these structs are in src/render/uniforms.rs and tests/shaders.rs checks their sizes match).
 //
-// Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame.
+// Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame,
+// as a texture (`joint_matrices`).
 // `vs_level` draws one level as it is; `vs_geomorph` also reads each vertex's ancestor in the next
 // coarser level (the same attributes, locations 6..11), skins both and interpolates by `draw.morph_t`
 // (0 = exactly the fine level, 1 = exactly the coarse one). Both ends are morphed by the frame's
@@ -11,8 +12,6 @@
 // ambient plus one directional light, Lambert diffuse and a little Blinn-Phong. Colours are linear;
 // the target is sRGB, or the shader encodes when `camera.encode_srgb` is 1.
 
-// Must equal MAX_JOINTS in uniforms.rs: 256 mat4 fill WebGL2's minimum uniform block (16 KiB).
-const MAX_JOINTS: u32 = 256u;
 // Must equal MAX_MORPH_TARGETS in src/morph.rs: one weight each, 4 KiB of uniforms.
 const MAX_MORPH_TARGETS: u32 = 1024u;
 
@@ -29,10 +28,6 @@ struct Camera {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
-};
-
-struct Joints {
-    model_from_bind: array<mat4x4<f32>, MAX_JOINTS>,
 };
 
 // Morph target weights of this frame's pose, four per vec4 (std140 pads a scalar array).
@@ -66,7 +61,9 @@ struct Draw {
 };
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> joints: Joints;
+// `model_from_bind` of every skin joint, four texels per column-major matrix, `width / 4` joints to
+// a row (src/render/joint_texture.rs): a texture, so any joint count draws on WebGL2 too.
+@group(0) @binding(1) var joint_matrices: texture_2d<f32>;
 @group(0) @binding(2) var<uniform> morph_weights: MorphWeights;
 // Every morph delta by vertex id, two texels per entry: (Δp, target) and (Δn, 0), rows of
 // `textureDimensions(morph_deltas).x` texels (src/render/lod_source.rs `morph_texels`).
@@ -112,12 +109,24 @@ struct Varyings {
     @location(3) color: vec4<f32>,
 };
 
+// Joint `joint`'s `model_from_bind`. Out-of-range joints (the importer rejects them; defence in
+// depth) read the texture's last slot rather than past it.
+fn joint_matrix(joint: u32) -> mat4x4<f32> {
+    let size = textureDimensions(joint_matrices);
+    let per_row = size.x / 4u;
+    let k = min(joint, per_row * size.y - 1u);
+    let x = i32((k % per_row) * 4u);
+    let y = i32(k / per_row);
+    return mat4x4<f32>(
+        textureLoad(joint_matrices, vec2<i32>(x, y), 0),
+        textureLoad(joint_matrices, vec2<i32>(x + 1, y), 0),
+        textureLoad(joint_matrices, vec2<i32>(x + 2, y), 0),
+        textureLoad(joint_matrices, vec2<i32>(x + 3, y), 0),
+    );
+}
+
 fn blend_matrix(j: vec4<u32>, w: vec4<f32>) -> mat4x4<f32> {
-    // Out-of-range joints (the importer rejects them; defence in depth) read the last slot rather
-    // than past the array. min, not select: GLSL ES 3.00 has no mix() over uvec4.
-    let i = min(j, vec4<u32>(MAX_JOINTS - 1u));
-    return joints.model_from_bind[i.x] * w.x + joints.model_from_bind[i.y] * w.y
-        + joints.model_from_bind[i.z] * w.z + joints.model_from_bind[i.w] * w.w;
+    return joint_matrix(j.x) * w.x + joint_matrix(j.y) * w.y + joint_matrix(j.z) * w.z + joint_matrix(j.w) * w.w;
 }
 
 fn finish(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, color: vec4<f32>) -> Varyings {

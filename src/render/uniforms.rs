@@ -14,11 +14,6 @@ pub const SKIN_WGSL: &str = include_str!("skin.wgsl");
 /// share its bindings, vertex layouts and fragment shading); validated by `tests/shaders.rs`.
 pub const CROWD_WGSL: &str = concat!(include_str!("skin.wgsl"), include_str!("crowd.wgsl"));
 
-/// Joint matrices per draw. 256 `mat4x4<f32>` are 16 KiB, WebGL2's guaranteed uniform block
-/// size; WebGPU uses the same uniform buffer so both backends do the same work. Must equal
-/// `MAX_JOINTS` in `skin.wgsl`.
-pub const MAX_JOINTS: usize = 256;
-
 /// `Camera` in `skin.wgsl`: one per frame, shared by the three views.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -33,13 +28,6 @@ pub struct CameraRaw {
     /// 1 when the colour target is not an sRGB format and the shader must encode.
     pub encode_srgb: u32,
     pub _pad: [u32; 3],
-}
-
-/// `Joints` in `skin.wgsl`: `model_from_bind` of every skin joint, unused slots zero.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct JointsRaw {
-    pub model_from_bind: [[[f32; 4]; 4]; MAX_JOINTS],
 }
 
 /// `MorphWeights` in `skin.wgsl`: the frame's morph-target weights, target `t` at
@@ -91,9 +79,8 @@ pub struct DrawRaw {
 
 /// The WGSL struct name each mirror stands for, with the mirror's size: what `tests/shaders.rs`
 /// compares against naga's layout.
-pub const MIRRORS: [(&str, usize); 5] = [
+pub const MIRRORS: [(&str, usize); 4] = [
     ("Camera", std::mem::size_of::<CameraRaw>()),
-    ("Joints", std::mem::size_of::<JointsRaw>()),
     ("MorphWeights", std::mem::size_of::<MorphWeightsRaw>()),
     ("Material", std::mem::size_of::<MaterialRaw>()),
     ("Draw", std::mem::size_of::<DrawRaw>()),

@@ -349,3 +349,106 @@ test('CesiumMan\'s texture has every mip level down to 1×1, each with the mean 
     assert.ok(Math.max(...first.mean.slice(0, 3)) > 0.05, `${backend}: level 0 is black`);
   }
 });
+
+/**
+ * A .glb of a tube along +y bound to a chain of `joints` joints (one ring of 8 vertices per joint,
+ * u16 JOINTS_0, no animation), 1/`joints` of the tube's height per segment: what a rig of many
+ * joints (spring bones, facial rigs) looks like to the renderer.
+ */
+function tubeGlb(joints) {
+  const RING = 8;
+  const rings = joints + 1;
+  const step = 4 / joints;
+  const f32 = [];
+  for (let k = 0; k < rings; k++) {
+    for (let r = 0; r < RING; r++) {
+      const a = (2 * Math.PI * r) / RING;
+      f32.push(0.2 * Math.cos(a), k * step, 0.2 * Math.sin(a));
+    }
+  }
+  const positions = new Float32Array(f32);
+  const jointIds = new Uint16Array(rings * RING * 4);
+  const weights = new Float32Array(rings * RING * 4);
+  for (let v = 0; v < rings * RING; v++) {
+    jointIds[4 * v] = Math.min(Math.floor(v / RING), joints - 1);
+    weights[4 * v] = 1;
+  }
+  const indices = [];
+  for (let k = 0; k < joints; k++) {
+    for (let r = 0; r < RING; r++) {
+      const a = k * RING + r;
+      const b = k * RING + ((r + 1) % RING);
+      indices.push(a, a + RING, b, b, a + RING, b + RING);
+    }
+  }
+  const index = new Uint32Array(indices);
+  const inverseBinds = new Float32Array(16 * joints);
+  for (let j = 0; j < joints; j++) {
+    inverseBinds.set([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -j * step, 0, 1], 16 * j);
+  }
+  const parts = [positions, jointIds, weights, index, inverseBinds];
+  const views = [];
+  let offset = 0;
+  for (const p of parts) {
+    views.push({ buffer: 0, byteOffset: offset, byteLength: p.byteLength });
+    offset += p.byteLength;
+  }
+  const nodes = Array.from({ length: joints }, (_, j) => ({
+    name: `joint${j}`,
+    translation: [0, j === 0 ? 0 : step, 0],
+    ...(j + 1 < joints ? { children: [j + 1] } : {}),
+  }));
+  nodes.push({ name: 'tube', mesh: 0, skin: 0 });
+  const json = {
+    asset: { version: '2.0' },
+    scene: 0,
+    scenes: [{ nodes: [0, joints] }],
+    nodes,
+    meshes: [{ primitives: [{ attributes: { POSITION: 0, JOINTS_0: 1, WEIGHTS_0: 2 }, indices: 3 }] }],
+    skins: [{ joints: Array.from({ length: joints }, (_, j) => j), inverseBindMatrices: 4 }],
+    buffers: [{ byteLength: offset }],
+    bufferViews: views,
+    accessors: [
+      { bufferView: 0, componentType: 5126, count: rings * RING, type: 'VEC3', min: [-0.2, 0, -0.2], max: [0.2, 4, 0.2] },
+      { bufferView: 1, componentType: 5123, count: rings * RING, type: 'VEC4' },
+      { bufferView: 2, componentType: 5126, count: rings * RING, type: 'VEC4' },
+      { bufferView: 3, componentType: 5125, count: index.length, type: 'SCALAR' },
+      { bufferView: 4, componentType: 5126, count: joints, type: 'MAT4' },
+    ],
+  };
+  const pad = (b, fill) => Buffer.concat([b, Buffer.alloc((4 - (b.length % 4)) % 4, fill)]);
+  const jsonChunk = pad(Buffer.from(JSON.stringify(json)), 0x20);
+  const binChunk = pad(Buffer.concat(parts.map((p) => Buffer.from(p.buffer, p.byteOffset, p.byteLength))), 0);
+  const header = Buffer.alloc(12);
+  header.writeUInt32LE(0x46546c67, 0);
+  header.writeUInt32LE(2, 4);
+  header.writeUInt32LE(12 + 8 + jsonChunk.length + 8 + binChunk.length, 8);
+  const chunk = (type, data) => { const h = Buffer.alloc(8); h.writeUInt32LE(data.length, 0); h.writeUInt32LE(type, 4); return Buffer.concat([h, data]); };
+  return Buffer.concat([header, chunk(0x4e4f534a, jsonChunk), chunk(0x004e4942, binChunk)]);
+}
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`${backend}: a character of 1,100 joints (three rows of the joint texture) draws whole`, async () => {
+    const page = await openPage(browser, backend === 'webgl2' ? { backend } : {}, SMALL_VIEWPORT);
+    const joints = 1100;
+    const outcome = await nextOutcome(page, () => page.setInputFiles('#file', { name: 'tube.glb', mimeType: 'model/gltf-binary', buffer: tubeGlb(joints) }));
+    assert.equal(outcome.type, 'load', JSON.stringify(outcome.detail));
+    const state = await frame(page, 1000, { paused: true, time: 0, overlay: 'none', meter: false });
+    assert.equal(state.backend, backend);
+    assert.equal(state.errors.length, 0, state.errors.join('\n'));
+    const pixels = await readPixels(page);
+    for (const view of state.views) {
+      const rgb = crop(pixels, view.rect);
+      // Rows holding any of the tube: a joint read from the wrong texel (or a zero matrix) would
+      // fold its rings away, and the tube above joint 512 would be gone (less than half its height).
+      const [w, h] = [view.rect[2], view.rect[3]];
+      let top = h, bottom = -1;
+      for (let y = 0; y < h; y++) {
+        const row = rgb.subarray(3 * w * y, 3 * w * (y + 1));
+        if (foregroundFraction(row) > 0) { top = Math.min(top, y); bottom = Math.max(bottom, y); }
+      }
+      assert.ok(bottom - top > 0.6 * h, `${view.method}: the tube spans rows ${top}..${bottom} of ${h}`);
+    }
+    await page.close();
+  });
+}

@@ -1,20 +1,24 @@
 //! The crowd's pose palette (Larkin 2011, §2 "animation"): one clip pre-sampled at a fixed rate
 //! into rows of `model_from_bind` joint matrices, so that every instance reads its pose from the
 //! row nearest its own clip time instead of evaluating the skeleton. One row costs
-//! `joints × 64` bytes; the GPU holds the palette as an `rgba32float` texture of `4 × joints`
-//! texels by `rows` (four texels per column-major matrix), which WebGPU and WebGL2 both read with
-//! `textureLoad`. Each row also holds the clip's morph-target weights at that time (glTF §3.7.2.2,
-//! over the character's default weights), a second texture of `⌈targets / 4⌉` texels by `rows`,
-//! so an instance's face moves with its own clip time as its skeleton does.
+//! `joints × 64` bytes; the GPU holds the palette as an `rgba32float` texture, each pose row laid
+//! out as the single view's joint texture ([`crate::render::joint_texture`]: four texels per
+//! column-major matrix, at most 512 joints to a texture row, so a pose of more joints spans
+//! several texture rows), which WebGPU and WebGL2 both read with `textureLoad`. Each row also
+//! holds the clip's morph-target weights at that time (glTF §3.7.2.2, over the character's default
+//! weights), a second texture of `⌈targets / 4⌉` texels by `rows`, so an instance's face moves
+//! with its own clip time as its skeleton does.
 
 use glam::Mat4;
 
 use crate::character::Character;
+use crate::render::joint_texture::{joint_texels, joint_texture_size};
 
 /// Samples per second of clip time: at 30 a pose is at most 1/60 s from the clip's own, less than
 /// a walk moves a foot by a pixel at crowd distances.
 pub const PALETTE_RATE: f32 = 30.0;
-/// Most rows: WebGL2's smallest guaranteed texture height. Longer clips are sampled more sparsely.
+/// Most rows: WebGL2's smallest guaranteed texture height. Longer clips are sampled more sparsely,
+/// and so are characters of more than 512 joints, whose poses take several texture rows each.
 pub const MAX_ROWS: usize = 2048;
 
 /// A clip sampled into rows of joint matrices (see the module docs).
@@ -50,7 +54,8 @@ impl PosePalette {
             return Self { joints, rows: 1, duration: 0.0, matrices, targets, weights, clip };
         };
         let duration = c.duration();
-        let rows = ((duration * PALETTE_RATE).ceil() as usize).clamp(1, MAX_ROWS);
+        let texture_rows_per_pose = joint_texture_size(joints).1 as usize;
+        let rows = ((duration * PALETTE_RATE).ceil() as usize).clamp(1, MAX_ROWS / texture_rows_per_pose);
         let mut matrices = Vec::with_capacity(rows * joints);
         let mut weights = Vec::with_capacity(rows * targets);
         for r in 0..rows {
@@ -72,10 +77,18 @@ impl PosePalette {
         ((phase * self.rows as f64).round() as usize % self.rows) as u32
     }
 
-    /// The palette as texels: `rows` rows of `4 × joints` RGBA32F texels, each matrix's four
-    /// columns side by side.
+    /// Width and height of the palette texture: each pose row is a joint texture
+    /// ([`joint_texture_size`]) and they stack, so `crowd.wgsl` finds a pose's texture rows as the
+    /// height over the weights texture's (one row per pose).
+    pub fn texture_size(&self) -> (u32, u32) {
+        let (width, rows_per_pose) = joint_texture_size(self.joints);
+        (width, rows_per_pose * self.rows as u32)
+    }
+
+    /// The palette as texels ([`Self::texture_size`]): row after row, each pose's matrices laid
+    /// out as [`joint_texels`] lays out a frame's.
     pub fn texels(&self) -> Vec<[f32; 4]> {
-        self.matrices.iter().flat_map(|m| m.to_cols_array_2d()).collect()
+        self.matrices.chunks(self.joints.max(1)).flat_map(|pose| joint_texels(pose, self.joints)).collect()
     }
 
     /// Texels per row of the weights texture: four weights each, at least one (a texture cannot

@@ -193,6 +193,27 @@ fn palette_rows_loop_with_the_clip() {
 }
 
 #[test]
+fn a_palette_of_more_than_512_joints_spans_texture_rows_per_pose() {
+    let (joints, rows) = (700, 3);
+    let matrices: Vec<Mat4> =
+        (0..rows * joints).map(|i| Mat4::from_translation(Vec3::splat(i as f32))).collect();
+    let p =
+        PosePalette { joints, rows, duration: 1.0, matrices, targets: 0, weights: Vec::new(), clip: Some(0) };
+    // Two texture rows of 512 joints per pose, three poses.
+    assert_eq!(p.texture_size(), (2048, 6));
+    let texels = p.texels();
+    assert_eq!(texels.len(), 2048 * 6);
+    // What `palette_matrix` in crowd.wgsl reads: rows_per_pose = 6 / 3 (the weights texture's
+    // height), joint k of pose r at (4 · (k mod 512), 2r + k / 512).
+    for (r, k) in [(0, 0), (1, 511), (1, 512), (2, 699)] {
+        let at = (2 * r + k / 512) * 2048 + 4 * (k % 512);
+        let m = Mat4::from_cols_array_2d(&[texels[at], texels[at + 1], texels[at + 2], texels[at + 3]]);
+        assert_eq!(m, p.matrices[r * joints + k], "pose {r} joint {k}");
+    }
+    assert_eq!(p.weight_texels(true).len(), rows, "one weights texel row per pose");
+}
+
+#[test]
 fn instance_record_layout_is_what_the_vertex_layout_reads() {
     assert_eq!(std::mem::size_of::<InstanceRaw>(), 32);
     assert_eq!(std::mem::offset_of!(InstanceRaw, place) as u64, draws::INSTANCE_OFFSETS[0]);

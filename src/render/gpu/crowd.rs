@@ -43,8 +43,8 @@ fn palette_group(
     morphs: bool,
 ) -> wgpu::BindGroup {
     let rows = palette.rows as u32;
-    let matrices =
-        float_texture(device, queue, "crowd palette", 4 * palette.joints as u32, rows, &palette.texels());
+    let (width, height) = palette.texture_size();
+    let matrices = float_texture(device, queue, "crowd palette", width, height, &palette.texels());
     let weights = float_texture(
         device,
         queue,

@@ -3,15 +3,14 @@
 //! `skin.wgsl`, and the execution of a frame's [`ViewPlan`]s: one render pass, one viewport per
 //! view, 4× MSAA where the format allows it, into an sRGB target.
 //!
-//! Joint matrices live in a uniform block on both backends (WebGL2 has no storage buffers in
-//! vertex shaders; doing the same on WebGPU keeps the comparison fair). Errors the device reports
+//! Joint matrices live in a texture on both backends (WebGL2 has no storage buffers in vertex
+//! shaders and 16 KiB uniform blocks; doing the same on WebGPU keeps the comparison fair). Errors the device reports
 //! asynchronously (validation, out of memory, device loss) are collected and handed to the page
 //! by [`Renderer::take_errors`].
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-use bytemuck::Zeroable;
 use glam::Mat4;
 use thiserror::Error;
 use wasm_bindgen::JsCast;
@@ -20,6 +19,7 @@ use wgpu::util::DeviceExt;
 mod crowd;
 mod difference;
 mod frame_targets;
+mod joints;
 mod meter;
 pub use meter::{MeterFrame, METER_HEIGHT};
 mod mipmaps;
@@ -38,9 +38,7 @@ use super::layout::Rect;
 use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
 use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
-use super::uniforms::{
-    CameraRaw, DrawRaw, JointsRaw, MaterialRaw, MorphWeightsRaw, CROWD_WGSL, MAX_JOINTS, SKIN_WGSL,
-};
+use super::uniforms::{CameraRaw, DrawRaw, MaterialRaw, MorphWeightsRaw, CROWD_WGSL, SKIN_WGSL};
 use crate::character::{AlphaMode, Character};
 
 /// Why the renderer could not start or draw.
@@ -53,8 +51,8 @@ pub enum RenderError {
     Surface(&'static str, String),
     #[error("the GPU refused a device: {0}")]
     Device(String),
-    #[error("the character has {0} joints; the viewer draws at most {MAX_JOINTS}")]
-    TooManyJoints(usize),
+    #[error("the character has {0} joints; this GPU's largest texture holds the matrices of at most {1}")]
+    TooManyJoints(usize, usize),
     #[error("texture of material {material:?} could not be decoded: {reason}")]
     Texture { material: String, reason: String },
     #[error("reading the picture back failed: {0}")]
@@ -70,9 +68,6 @@ pub enum BackendChoice {
 
 /// Bytes per bone-line vertex: one model-space `vec3<f32>`.
 const BONE_VERTEX_STRIDE: u64 = 12;
-/// Bone-line vertices the buffer holds: two per joint is more than enough, as every bone ends at
-/// a joint and the topmost joint starts none (at most `MAX_JOINTS - 1` bones).
-const BONE_VERTICES: usize = 2 * MAX_JOINTS;
 /// Draw-call slots of the per-draw uniform buffer, all written before one submit: 3 views × 2
 /// draws, and the live meter's reference and 3 views × 2 draws again.
 const DRAW_SLOTS: u64 = 13;
@@ -114,7 +109,7 @@ pub struct FrameInput<'a> {
     /// Morph-target weights of the same pose, one per target (fewer: the rest are 0).
     pub morph_weights: &'a [f32],
     /// The skeleton overlay's line list (model space, two points per bone) in the same pose;
-    /// drawn only with [`Overlay::Skeleton`], and only its first [`BONE_VERTICES`] points.
+    /// drawn only with [`Overlay::Skeleton`], and only as many points as two per joint.
     pub bones: &'a [[f32; 3]],
     pub views: [(Rect, &'a ViewPlan); 3],
     /// Drawn over every view alike.
@@ -152,7 +147,10 @@ pub struct Renderer {
     /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
     composed: bool,
     camera_buffer: wgpu::Buffer,
-    joints_buffer: wgpu::Buffer,
+    joints: joints::JointTexture,
+    /// Points the bone-line buffer holds: two per joint is more than enough, as every bone ends
+    /// at a joint and the topmost joint starts none.
+    bone_vertices: usize,
     morph_weights_buffer: wgpu::Buffer,
     /// Whether the morph deltas were too many for a texture (see [`Renderer::morphs_dropped`]).
     morphs_dropped: bool,
@@ -205,17 +203,13 @@ impl Renderer {
     ///
     /// # Errors
     /// [`RenderError`]: no adapter for the backend, a canvas or device the browser refuses, more
-    /// than [`MAX_JOINTS`] joints, or a texture the browser cannot decode.
+    /// joints than the device's largest texture holds, or a texture the browser cannot decode.
     pub async fn new(
         canvas: web_sys::HtmlCanvasElement,
         choice: BackendChoice,
         character: &Character,
         lod: &LodSource,
     ) -> Result<Self, RenderError> {
-        let joint_count = character.skeleton.joints.len();
-        if joint_count > MAX_JOINTS {
-            return Err(RenderError::TooManyJoints(joint_count));
-        }
         let (backends, backend) = match choice {
             BackendChoice::WebGpu => (wgpu::Backends::BROWSER_WEBGPU, "webgpu"),
             BackendChoice::WebGl2 => (wgpu::Backends::GL, "webgl2"),
@@ -235,7 +229,7 @@ impl Renderer {
             })
             .await
             .map_err(|_| RenderError::NoAdapter(backend))?;
-        // WebGL2's limits on both backends: the same work, and the joint block (16 KiB) fits.
+        // WebGL2's limits on both backends: the same work.
         let limits = wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -267,11 +261,13 @@ impl Renderer {
             };
 
         let camera_buffer = uniform_buffer(&device, "camera", std::mem::size_of::<CameraRaw>() as u64);
-        let joints_buffer = uniform_buffer(&device, "joints", std::mem::size_of::<JointsRaw>() as u64);
+        let joint_count = character.skeleton.joints.len();
+        let joints = joints::JointTexture::new(&device, joint_count)?;
+        let bone_vertices = 2 * joint_count.max(1);
         let draw_buffer = uniform_buffer(&device, "draws", DRAW_SLOTS * DRAW_STRIDE);
         let bone_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("bones"),
-            size: BONE_VERTICES as u64 * BONE_VERTEX_STRIDE,
+            size: bone_vertices as u64 * BONE_VERTEX_STRIDE,
             usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -283,7 +279,7 @@ impl Renderer {
             &device,
             &layouts.frame,
             &camera_buffer,
-            &joints_buffer,
+            &joints.view,
             &morph_weights_buffer,
             &morph_deltas,
         );
@@ -323,7 +319,8 @@ impl Renderer {
             view_targets: Default::default(),
             composed,
             camera_buffer,
-            joints_buffer,
+            joints,
+            bone_vertices,
             morph_weights_buffer,
             morphs_dropped: morph_deltas.dropped,
             draw_buffer,
@@ -463,14 +460,10 @@ impl Renderer {
     }
 
     fn encode(&self, frame: &FrameInput, target: &wgpu::Texture) -> wgpu::CommandBuffer {
-        let mut joints = JointsRaw::zeroed();
-        for (slot, m) in joints.model_from_bind.iter_mut().zip(frame.skin) {
-            *slot = m.to_cols_array_2d();
-        }
         let mut camera = frame.camera;
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
-        self.queue.write_buffer(&self.joints_buffer, 0, bytemuck::bytes_of(&joints));
+        self.joints.write(&self.queue, frame.skin);
         let weights = if self.morphs_dropped {
             MorphWeightsRaw::new(&[])
         } else {
@@ -479,7 +472,7 @@ impl Renderer {
         self.queue.write_buffer(&self.morph_weights_buffer, 0, bytemuck::bytes_of(&weights));
         let bones = if frame.overlay == Overlay::Skeleton {
             // Whole segments only (an even count), at most what the buffer holds.
-            let points = &frame.bones[..frame.bones.len().min(BONE_VERTICES) & !1];
+            let points = &frame.bones[..frame.bones.len().min(self.bone_vertices) & !1];
             if !points.is_empty() {
                 self.queue.write_buffer(&self.bone_buffer, 0, bytemuck::cast_slice(points));
             }

@@ -33,12 +33,12 @@ pub(super) fn morph_texture(device: &wgpu::Device, queue: &wgpu::Queue, texels: 
     }
 }
 
-/// The frame bind group: camera, joints, morph weights and morph deltas.
+/// The frame bind group: camera, joint matrices, morph weights and morph deltas.
 pub(super) fn frame_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     camera: &wgpu::Buffer,
-    joints: &wgpu::Buffer,
+    joints: &wgpu::TextureView,
     morph_weights: &wgpu::Buffer,
     morph: &MorphTexture,
 ) -> wgpu::BindGroup {
@@ -47,7 +47,7 @@ pub(super) fn frame_group(
         layout,
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: joints.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(joints) },
             wgpu::BindGroupEntry { binding: 2, resource: morph_weights.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&morph.view) },
         ],
@@ -69,7 +69,7 @@ impl Renderer {
             &self.device,
             &self.layouts.frame,
             &self.camera_buffer,
-            &self.joints_buffer,
+            &self.joints.view,
             &self.morph_weights_buffer,
             &morph,
         );

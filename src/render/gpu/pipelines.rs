@@ -29,7 +29,7 @@ impl BindLayouts {
             label: Some("frame"),
             entries: &[
                 uniform(0, both, false),
-                uniform(1, vertex, false),
+                float_texture_entry(1),
                 uniform(2, vertex, false),
                 float_texture_entry(3),
             ],
