@@ -140,7 +140,6 @@ fn targets_deltas_and_default_weights_import_exactly() {
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn crowd_palette_rows_carry_the_clips_weights_at_their_time() {
     let c = grid();
@@ -170,6 +169,7 @@ fn crowd_palette_rows_carry_the_clips_weights_at_their_time() {
     assert_eq!(rest.weight_texels(true), vec![[0.5, 0.0, 0.0, 0.0]]);
 }
 
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn clips_sample_weights_in_every_interpolation_and_cpu_skinning_applies_them() {
     let c = grid();
