@@ -23,16 +23,8 @@ impl JointTexture {
             let most = JOINTS_PER_ROW.min(max as usize / 4) * max as usize;
             return Err(RenderError::TooManyJoints(joints, most));
         }
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("joint matrices"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let texture =
+            device.create_texture(&resources::float_texture_descriptor("joint matrices", width, height));
         let view = texture.create_view(&Default::default());
         Ok(Self { texture, view, joints })
     }
