@@ -167,3 +167,40 @@ fn a_required_texture_format_drops_the_texture_and_keeps_the_character() {
         c.warnings
     );
 }
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_base_colour_textures_uv_set_becomes_the_uvs() {
+    // TEXCOORD_0 all zero (a lightmap's, say), TEXCOORD_1 the texture's.
+    let with_sets = |material: &str| {
+        let mut model = TinyModel::new();
+        let set =
+            |uvs: [[f32; 2]; 3]| uvs.iter().flatten().flat_map(|c| c.to_le_bytes()).collect::<Vec<u8>>();
+        let view = add_view(&mut model, &set([[0.0; 2]; 3]));
+        let zero = add_accessor(&mut model, view, 5126, false, "VEC2");
+        let view = add_view(&mut model, &set([[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]]));
+        let one = add_accessor(&mut model, view, 5126, false, "VEC2");
+        let attributes = &mut model.json["meshes"][0]["primitives"][0]["attributes"];
+        attributes["TEXCOORD_0"] = Value::from(zero);
+        attributes["TEXCOORD_1"] = Value::from(one);
+        model.json["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+        model.json["materials"] = gltf_json::deserialize::from_str(material).unwrap();
+        model.json["textures"] = gltf_json::deserialize::from_str(r#"[{"source": 0}]"#).unwrap();
+        model.json["images"] = gltf_json::deserialize::from_str(r#"[{"uri": "texture.png"}]"#).unwrap();
+        from_gltf(&model.gltf(), &mut |_| Some(b"\x89PNG\r\n\x1a\n".to_vec())).expect("imports")
+    };
+    let texture_set = vec![Vec2::new(0.1, 0.2), Vec2::new(0.3, 0.4), Vec2::new(0.5, 0.6)];
+    let c = with_sets(r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}]"#);
+    assert_eq!(c.mesh.uvs, Some(texture_set.clone()));
+    assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    // KHR_texture_transform's texCoord overrides the texture info's.
+    let c = with_sets(
+        r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 0,
+            "extensions": {"KHR_texture_transform": {"texCoord": 1}}}}}]"#,
+    );
+    assert_eq!(c.mesh.uvs, Some(texture_set));
+    // A set the primitive lacks: TEXCOORD_0, with a warning naming the one asked for.
+    let c = with_sets(r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 3}}}]"#);
+    assert_eq!(c.mesh.uvs, Some(vec![Vec2::ZERO; 3]));
+    assert!(c.warnings.iter().any(|w| w.contains("TEXCOORD_3")), "{:?}", c.warnings);
+}

@@ -183,6 +183,20 @@ fn base_color_uv_transform(root: &gltf_json::Root, material: Option<usize>) -> A
     Affine2::from_mat2_translation(linear, Vec2::from_array(t.offset.0))
 }
 
+/// The uv set `material`'s base colour texture samples: `KHR_texture_transform`'s `texCoord`
+/// override, else the texture info's `texCoord`, else 0. The viewer samples only that texture, so
+/// its set becomes the primitive's uvs.
+fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> u32 {
+    let Some(info) = material
+        .and_then(|m| root.materials.get(m))
+        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())
+    else {
+        return 0;
+    };
+    let over = info.extensions.as_ref().and_then(|e| e.texture_transform.as_ref()).and_then(|t| t.tex_coord);
+    over.unwrap_or(info.tex_coord)
+}
+
 /// Reads one primitive's attributes and triangles, or `None` (with a warning) when it draws no
 /// triangles.
 fn read_primitive(
@@ -232,11 +246,25 @@ fn read_primitive(
         }
         None => None,
     };
-    let uvs = match attribute(Semantic::TexCoords(0)) {
+    let material = prim.material.map(|m| m.value());
+    let wanted = base_color_uv_set(src.root, material);
+    let set = match attribute(Semantic::TexCoords(wanted)) {
+        Some(_) => wanted,
+        None if wanted == 0 => 0,
+        None => {
+            warnings.push(format!(
+                "{label}: its material's base colour texture samples TEXCOORD_{wanted}, which it lacks; \
+                 TEXCOORD_0 is used"
+            ));
+            0
+        }
+    };
+    let uvs = match attribute(Semantic::TexCoords(set)) {
         Some(a) => {
-            let e = read_floats(src, a, &usage("TEXCOORD_0"), &[Type::Vec2], MAX_VERTICES)?;
-            same_count("TEXCOORD_0", &e)?;
-            let transform = base_color_uv_transform(src.root, prim.material.map(|m| m.value()));
+            let name = format!("TEXCOORD_{set}");
+            let e = read_floats(src, a, &usage(&name), &[Type::Vec2], MAX_VERTICES)?;
+            same_count(&name, &e)?;
+            let transform = base_color_uv_transform(src.root, material);
             let uvs: Vec<Vec2> =
                 e.values.chunks_exact(2).map(|c| transform.transform_point2(Vec2::new(c[0], c[1]))).collect();
             if let Some(v) = uvs.iter().position(|t| !t.is_finite()) {

@@ -39,12 +39,6 @@ pub(crate) fn read_materials(
                     .textures
                     .get(info.index.value())
                     .ok_or_else(|| invalid("names a missing texture"))?;
-                if info.tex_coord != 0 {
-                    warnings.push(format!(
-                        "material '{name}' uses TEXCOORD_{}; only TEXCOORD_0 is imported",
-                        info.tex_coord
-                    ));
-                }
                 if texture.source.value() == u32::MAX as usize {
                     // gltf-json's marker for "no `source`": the image is only in an extension.
                     let formats: Vec<&str> = (src.root.extensions_used.iter())
