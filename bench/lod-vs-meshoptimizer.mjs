@@ -7,8 +7,10 @@
 //  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
 //     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last),
 //     each the best of at least 5 runs and of as many as fit in 1.5 s; and, for context, meshoptimizer doing
-//     our job: the unwelded mesh with normals and uv priced, keeping vertices (simplifyWithAttributes) or
-//     moving them (simplifyWithUpdate), as a chain;
+//     our job: the file's vertices with their seams, normals and uv priced (`meshoptAttributeInput`),
+//     keeping vertices (simplifyWithAttributes) or moving them (simplifyWithUpdate), as a chain. Every
+//     meshoptimizer input is compacted (no unused vertices, see `compact` in meshopt-input.mjs);
+
 //  2. geometric error in the bind pose at the same triangle counts (symmetric sampled distance, % of the bbox
 //     diagonal, same seed and sample count for both); then the same against simplifyWithUpdate's chain;
 //  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
@@ -19,7 +21,7 @@ import { execFileSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api, modelBytes } from '../tests/js/models.mjs';
-import { normalsAndUvs, weldByPosition } from './meshopt-input.mjs';
+import { meshoptAttributeInput, weldByPosition } from './meshopt-input.mjs';
 
 // --build-only prints the build times (1 and 4) and skips the error measurements.
 const BUILD_ONLY = process.argv.includes('--build-only');
@@ -47,14 +49,13 @@ function meshoptLevels(indices, positions, counts, chained) {
 }
 
 /**
- * meshoptimizer doing the job ours does: the unwelded mesh (so attribute seams are kept), normals and uv
- * priced (weight 1 each, the docs' advice for unit-range attributes), as a chain. `update` uses
+ * meshoptimizer doing the job ours does: the file's vertices (so attribute seams are kept), normals and uv
+ * priced (weight 1 each, the docs' advice for unit-range attributes; see `meshoptAttributeInput`), as a chain. `update` uses
  * `simplifyWithUpdate`, which moves vertices and their attributes to better places as our full collapses
  * do, and copies each level's vertex data out (the next level overwrites it); otherwise
  * `simplifyWithAttributes`, which keeps a subset of the input vertices as our half-edge mode does.
  */
-function meshoptAttributeChain(indices, positions, attributes, counts, update) {
-  const weights = [1, 1, 1, 1, 1];
+function meshoptAttributeChain({ indices, positions, attributes, stride, weights }, counts, update) {
   const levels = [];
   let source = indices;
   const moved = update ? positions.slice() : positions;
@@ -62,11 +63,11 @@ function meshoptAttributeChain(indices, positions, attributes, counts, update) {
   for (const triangles of counts) {
     if (update) {
       const working = source.slice();
-      const [count] = MeshoptSimplifier.simplifyWithUpdate(working, moved, 3, movedAttributes, 5, weights, null, triangles * 3, 1.0);
+      const [count] = MeshoptSimplifier.simplifyWithUpdate(working, moved, 3, movedAttributes, stride, weights, null, triangles * 3, 1.0);
       source = working.subarray(0, count);
       levels.push({ indices: source, positions: moved.slice(), attributes: movedAttributes.slice() });
     } else {
-      [source] = MeshoptSimplifier.simplifyWithAttributes(source, positions, 3, attributes, 5, weights, null, triangles * 3, 1.0);
+      [source] = MeshoptSimplifier.simplifyWithAttributes(source, positions, 3, attributes, stride, weights, null, triangles * 3, 1.0);
       levels.push(source);
     }
   }
@@ -114,11 +115,11 @@ for (const [name, bytes, path] of list) {
   const counts = FRACTIONS.map((f) => Math.max(1, Math.round(full * f)));
   const welded = weldByPosition(indices, positions);
 
-  const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded, positions, counts, false));
-  const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded, positions, counts, true));
-  const attributes = normalsAndUvs(character);
-  const [, withAttributesMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, false));
-  const [updated, withUpdateMs] = timeIt(() => meshoptAttributeChain(indices, positions, attributes, counts, true));
+  const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded.indices, welded.positions, counts, false));
+  const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded.indices, welded.positions, counts, true));
+  const input = meshoptAttributeInput(character, bytes);
+  const [, withAttributesMs] = timeIt(() => meshoptAttributeChain(input, counts, false));
+  const [updated, withUpdateMs] = timeIt(() => meshoptAttributeChain(input, counts, true));
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer
   // simplifies the bind-pose mesh, so ours is compared simplifying the same pose.
   const [, oursMs] = timeIt(() => character.buildClod({ levels: counts }).free());
@@ -126,7 +127,7 @@ for (const [name, bytes, path] of list) {
   const [, passesMs] = timeIt(() => character.buildClod({ levels: counts, schedule: 'passes' }).free());
   // Simplifying one static pose, as meshoptimizer does: our build without the multi-pose frames.
   const [, oursBindMs] = timeIt(() => character.buildClod({ levels: counts, pose: 'bind' }).free());
-  const attributeLine = `meshoptimizer chain with normals and uv: simplifyWithAttributes ${withAttributesMs.toFixed(1)} ms, ` +
+  const attributeLine = `meshoptimizer chain with ${input.what}: simplifyWithAttributes ${withAttributesMs.toFixed(1)} ms, ` +
     `simplifyWithUpdate ${withUpdateMs.toFixed(1)} ms; ours in the bind pose ${oursBindMs.toFixed(1)} ms: ` +
     `ratio ours/update chain = ${(oursMs / withUpdateMs).toFixed(2)} (bind pose ${(oursBindMs / withUpdateMs).toFixed(2)})`;
   if (BUILD_ONLY) {
@@ -155,9 +156,9 @@ for (const [name, bytes, path] of list) {
     const common = Math.max(ourCount, meshopt[i].length / 3);
     const ours = clod.meshAt(common);
     let theirs = meshopt[i];
-    if (theirs.length / 3 > common) theirs = MeshoptSimplifier.simplify(welded, positions, 3, common * 3, 1.0, [])[0];
+    if (theirs.length / 3 > common) theirs = MeshoptSimplifier.simplify(welded.indices, welded.positions, 3, common * 3, 1.0, [])[0];
     const dOurs = api.surfaceDistance(positions, indices, ours.bindPositions, ours.indices, SAMPLES, SEED);
-    const dTheirs = api.surfaceDistance(positions, indices, positions, theirs, SAMPLES, SEED);
+    const dTheirs = api.surfaceDistance(positions, indices, welded.positions, theirs, SAMPLES, SEED);
     const shown = ours.indices.length / 3 === theirs.length / 3 ? `${theirs.length / 3}` : `${ours.indices.length / 3} / ${theirs.length / 3}`;
     console.log(`| ${FRACTIONS[i] * 100}% | ${shown} | ${pct(dOurs.mean, diag)} | ${pct(dTheirs.mean, diag)} | ` +
       `${(dOurs.mean / dTheirs.mean).toFixed(2)} | ${pct(dOurs.hausdorff, diag)} | ${pct(dTheirs.hausdorff, diag)} |`);
