@@ -123,7 +123,7 @@ fn a_rotated_uv_transform_turns_counter_clockwise_in_uv_space() {
 fn an_unreadable_required_extension_is_named_with_what_to_do() {
     for (name, what) in [
         ("KHR_draco_mesh_compression", "Draco"),
-        ("EXT_meshopt_compression", "meshoptimizer-compressed"),
+        ("KHR_meshopt_compression", "meshoptimizer-compressed"),
         ("EXT_made_up", "does not know"),
     ] {
         let mut model = TinyModel::new();
@@ -203,4 +203,65 @@ fn the_base_colour_textures_uv_set_becomes_the_uvs() {
     let c = with_sets(r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 3}}}]"#);
     assert_eq!(c.mesh.uvs, Some(vec![Vec2::ZERO; 3]));
     assert!(c.warnings.iter().any(|w| w.contains("TEXCOORD_3")), "{:?}", c.warnings);
+}
+
+/// A version 0 `EXT_meshopt_compression` attribute stream of `data` (`stride`-byte elements),
+/// every group stored as raw bytes: the simplest valid encoding (the baseline is all zeros).
+fn meshopt_raw_attributes(data: &[u8], stride: usize) -> Vec<u8> {
+    let count = data.len() / stride;
+    let per_block = ((8192 / stride) & !15).min(256);
+    let mut out = vec![0xa0];
+    let mut previous = vec![0u8; stride];
+    for start in (0..count).step_by(per_block) {
+        let n = per_block.min(count - start);
+        let groups = n.div_ceil(16);
+        for (k, last) in previous.iter_mut().enumerate() {
+            out.extend(std::iter::repeat_n(0xff, groups.div_ceil(4))); // mode 3 for every group
+            for i in 0..groups * 16 {
+                let value = if i < n { data[(start + i) * stride + k] } else { *last };
+                let delta = value.wrapping_sub(*last) as i8;
+                out.push(((delta << 1) ^ (delta >> 7)) as u8); // zigzag
+                *last = value;
+            }
+        }
+    }
+    out.resize(out.len() + stride.max(32), 0); // the tail: padding, then the zero baseline
+    out
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_meshopt_compressed_buffer_view_decodes_into_a_placeholder_buffer() {
+    // The positions move to a compressed stream in buffer 0; their view's own buffer becomes a
+    // placeholder with no bytes (buffer 1, as gltfpack writes it).
+    let plain = import(&TinyModel::new()).expect("imports");
+    let mut model = TinyModel::new();
+    let positions = model.bin[common::tiny::POSITIONS..common::tiny::POSITIONS + 36].to_vec();
+    let stream = meshopt_raw_attributes(&positions, 12);
+    let offset = model.bin.len();
+    model.bin.extend_from_slice(&stream);
+    model.json["buffers"][0]["byteLength"] = Value::from(model.bin.len());
+    let placeholder = r#"{"byteLength": 36, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}"#;
+    model.json["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(gltf_json::deserialize::from_str(placeholder).unwrap());
+    let extension = format!(
+        r#"{{"EXT_meshopt_compression": {{"buffer": 0, "byteOffset": {offset}, "byteLength": {},
+            "byteStride": 12, "count": 3, "mode": "ATTRIBUTES"}}}}"#,
+        stream.len()
+    );
+    model.json["bufferViews"][0]["buffer"] = Value::from(1);
+    model.json["bufferViews"][0]["extensions"] = gltf_json::deserialize::from_str(&extension).unwrap();
+    require(&mut model, &["EXT_meshopt_compression"]);
+    // The positions' bytes in buffer 0 are garbage now: only the decoded stream can give them.
+    model.put_f32s(common::tiny::POSITIONS, &[9.0; 9]);
+    let decoded = import(&model).expect("imports");
+    assert_eq!(decoded.mesh.positions, plain.mesh.positions);
+
+    // Cut short by one byte, the stream is an error naming the view.
+    model.json["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteLength"] =
+        Value::from(stream.len() - 1);
+    let error = import(&model).expect_err("a corrupt stream");
+    assert!(error.to_string().contains("bufferViews[0]"), "{error}");
 }

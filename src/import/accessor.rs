@@ -6,20 +6,18 @@
 //! `i8 / 127` clamped at -1, …) when the accessor is `normalized`, and by value otherwise.
 //! Components are read byte-wise in little endian, so misaligned data is read, not rejected.
 
-use std::borrow::Cow;
-
 use gltf_json::accessor::{ComponentType, GenericComponentType, Type};
 use gltf_json::validation::Checked;
 use gltf_json::Root;
 
-use super::container::view_bytes;
+use super::container::{view_bytes, Buffers};
 use super::ImportError;
 
 /// The parsed document and its loaded buffers: everything an accessor read needs.
 #[derive(Clone, Copy)]
 pub(crate) struct Source<'a> {
     pub root: &'a Root,
-    pub buffers: &'a [Cow<'a, [u8]>],
+    pub buffers: &'a Buffers<'a>,
 }
 
 /// Flat accessor data: `values.len() == count * components`.

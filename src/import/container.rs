@@ -164,12 +164,17 @@ pub(crate) fn load_buffers<'a>(
     root: &Root,
     bin: Option<&'a [u8]>,
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
-) -> Result<Vec<Cow<'a, [u8]>>, ImportError> {
+) -> Result<Buffers<'a>, ImportError> {
     let mut buffers = Vec::with_capacity(root.buffers.len());
     for (index, buffer) in root.buffers.iter().enumerate() {
         let data: Cow<'a, [u8]> = match (&buffer.uri, bin) {
             (Some(uri), _) => Cow::Owned(fetch_uri(uri, resolve)?.0),
             (None, Some(bin)) if index == 0 => Cow::Borrowed(bin),
+            // Where meshopt-compressed views decode to: nothing to load.
+            (None, _) if super::meshopt::is_placeholder(root, index) => {
+                buffers.push(Cow::Borrowed(&[][..]));
+                continue;
+            }
             (None, _) => return Err(ImportError::MissingBinChunk(index)),
         };
         let declared = buffer.byte_length.0;
@@ -185,21 +190,30 @@ pub(crate) fn load_buffers<'a>(
             }
         });
     }
-    Ok(buffers)
+    let sources: Vec<&[u8]> = buffers.iter().map(|b| &b[..]).collect();
+    let decoded = super::meshopt::decode_views(root, &sources)?;
+    Ok(Buffers { buffers, decoded })
 }
 
-/// The bytes of buffer view `view`, checked against its buffer.
-pub(crate) fn view_bytes<'b>(
-    root: &Root,
-    buffers: &'b [Cow<[u8]>],
-    view: usize,
-) -> Result<&'b [u8], ImportError> {
+/// Every buffer's bytes, and the decoded bytes of the buffer views stored compressed
+/// (`EXT_meshopt_compression`, see `meshopt`), which replace their views' buffer ranges.
+pub(crate) struct Buffers<'a> {
+    buffers: Vec<Cow<'a, [u8]>>,
+    decoded: Vec<Option<Vec<u8>>>,
+}
+
+/// The bytes of buffer view `view`, checked against its buffer (or decoded, when compressed).
+pub(crate) fn view_bytes<'b>(root: &Root, data: &'b Buffers, view: usize) -> Result<&'b [u8], ImportError> {
     let v = root
         .buffer_views
         .get(view)
         .ok_or(ImportError::Invalid(format!("buffer view {view} does not exist")))?;
+    if let Some(Some(decoded)) = data.decoded.get(view) {
+        return Ok(decoded);
+    }
     let buffer_index = v.buffer.value();
-    let buffer = buffers
+    let buffer = data
+        .buffers
         .get(buffer_index)
         .ok_or(ImportError::Invalid(format!("buffer view {view} names missing buffer {buffer_index}")))?;
     let offset = v.byte_offset.map_or(0, |o| o.0);
@@ -231,7 +245,7 @@ fn sniff_mime(bytes: &[u8]) -> Option<&'static str> {
 /// in a format we cannot name.
 pub(crate) fn load_image(
     root: &Root,
-    buffers: &[Cow<[u8]>],
+    buffers: &Buffers,
     index: usize,
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
 ) -> Result<Result<(Vec<u8>, String), String>, ImportError> {

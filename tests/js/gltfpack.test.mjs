@@ -4,8 +4,8 @@
 // (by gltfpack 1.3's own wasm build, in memory) must import and build the same LOD as the
 // originals: the same levels with errors in model units, and no worse a skinned surface. Before
 // `clod::poses::bind_to_model_scale`, packed CesiumMan stopped at 3,764 of 4,672 triangles with a
-// level error of 76 bounding-box diagonals. Compressed files (`-cc`, EXT_meshopt_compression) are
-// refused with a message naming the extension.
+// level error of 76 bounding-box diagonals. Compressed files (`-c`, `-cc`: EXT_meshopt_compression)
+// import as the uncompressed pack; `-cz` (KHR_meshopt_compression) is refused with a message naming it.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { pack } from 'gltfpack';
@@ -59,9 +59,60 @@ for (const name of ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']) {
   });
 }
 
-test('a gltfpack-compressed file (EXT_meshopt_compression) is refused with a message naming it', async (t) => {
+/** Every triangle as its three corners' positions and uv, rotated to start at its smallest corner, sorted:
+ * two imports of the same mesh compare equal whatever their vertex and triangle order. */
+function triangleSet(character) {
+  const idx = character.indices(), pos = character.bindPositions(), uv = character.uvs();
+  const corner = (v) => `${[0, 1, 2].map((k) => pos[3 * v + k].toFixed(5))}|${uv ? [0, 1].map((k) => uv[2 * v + k].toFixed(4)) : ''}`;
+  const out = [];
+  for (let t = 0; t < idx.length; t += 3) {
+    const c = [corner(idx[t]), corner(idx[t + 1]), corner(idx[t + 2])];
+    const k = c.indexOf([...c].sort()[0]);
+    out.push(`${c[k]} ${c[(k + 1) % 3]} ${c[(k + 2) % 3]}`);
+  }
+  return out.sort();
+}
+
+for (const name of ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']) {
+  test(`${name} compressed by gltfpack (EXT_meshopt_compression, -c and -cc) imports as the uncompressed pack`, async (t) => {
+    const bytes = modelBytes(name);
+    if (!bytes) return t.skip('model missing');
+    const plain = api.Character.fromGlb(await gltfpack(bytes));
+    const diag = api.boundsDiagonal(plain.bindPositions());
+    try {
+      for (const args of [['-c'], ['-cc']]) {
+        const packed = await gltfpack(bytes, args);
+        assert.ok(glbJson(packed).extensionsRequired.includes('EXT_meshopt_compression'), `${args}: compressed`);
+        const c = api.Character.fromGlb(packed);
+        try {
+          // The codecs are lossless: the same triangles, corner for corner.
+          assert.deepEqual(triangleSet(c), triangleSet(plain), `${args}: triangles`);
+          assert.deepEqual(c.clipNames, plain.clipNames);
+          // -cc also filters normals (octahedral), rotations (quaternion) and translations
+          // (exponential), which are lossy: the skinned surface stays within 0.1 % of the diagonal.
+          for (const clip of c.clipNames) {
+            const time = c.clipDuration(clip) * 0.37;
+            const d = api.surfaceDistance(plain.skinnedPositions(clip, time), plain.indices(),
+              c.skinnedPositions(clip, time), c.indices(), SAMPLES, 1);
+            const limit = args[0] === '-c' ? 1e-5 : 1e-3;
+            assert.ok(d.hausdorff / diag < limit, `${args} ${clip}: ${d.hausdorff / diag} of the diagonal`);
+          }
+          const clod = c.buildClod();
+          assert.ok(clod.levelCount > 2, `${args}: ${clod.levelCount} levels`);
+          clod.free();
+        } finally {
+          c.free();
+        }
+      }
+    } finally {
+      plain.free();
+    }
+  });
+}
+
+test('KHR_meshopt_compression (gltfpack -cz) is refused with a message naming it', async (t) => {
   const bytes = modelBytes('Fox.glb');
   if (!bytes) return t.skip('model missing');
-  const packed = await gltfpack(bytes, ['-cc']);
-  assert.throws(() => api.Character.fromGlb(packed), /EXT_meshopt_compression/);
+  const packed = await gltfpack(bytes, ['-cz']);
+  assert.throws(() => api.Character.fromGlb(packed), /KHR_meshopt_compression/);
 });
