@@ -8,8 +8,9 @@
 //! triangles (mode 1: one code byte per triangle against a FIFO of recent edges and vertices) and
 //! indices (mode 2: LEB128 zigzag deltas against two baselines) — and three filters applied after
 //! mode 0 (octahedral unit vectors, max-component quaternions, exponent/mantissa floats).
-//! `KHR_meshopt_compression` (gltfpack `-cz`, `-ce khr`) adds a version 1 of the attribute
-//! bitstream and a colour filter, which are not decoded: such a file is refused with a message.
+//! `KHR_meshopt_compression` (gltfpack `-cz`, `-ce khr`) adds version 1 of the attribute
+//! bitstream (per-byte control modes with 1-bit deltas or literal bytes, and per-channel 16-bit
+//! or rotated-XOR 32-bit deltas) and a YCoCg colour filter; everything else is shared.
 //!
 //! Every read is bounds-checked against the compressed bytes: a corrupt stream is an error naming
 //! the buffer view, never a panic. A view's decoded size is its declared `byteStride × count`,
@@ -21,19 +22,25 @@ use gltf_json::{Root, Value};
 use super::ImportError;
 
 /// The extensions this module reads (the same JSON on buffers and buffer views).
-pub(crate) const EXTENSIONS: [&str; 1] = ["EXT_meshopt_compression"];
+pub(crate) const EXTENSIONS: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
 
 /// Largest decoded size per compressed byte. The attribute codec's best case is a group of 16
 /// zero deltas in 2 header bits, 64 decoded bytes per compressed byte; the triangle codec's is 12
 /// bytes (a triangle of `u32` indices per code byte). A stream claiming more is corrupt.
 pub(crate) const MAX_EXPANSION: usize = 64;
 
-/// Attribute stream header, version 0 (the only one `EXT_meshopt_compression` allows).
+/// Attribute stream headers: version 0 (both extensions) and version 1 (KHR only).
 const VERTEX_HEADER_V0: u8 = 0xa0;
+const VERTEX_HEADER_V1: u8 = 0xa1;
 const TRIANGLE_HEADER: u8 = 0xe1;
 const SEQUENCE_HEADER: u8 = 0xd1;
-/// The baseline element at the end of an attribute stream is padded to at least this size.
+/// The tail of an attribute stream (baseline element, and channel modes in version 1) is padded
+/// to at least this size: version 0, version 1.
 const TAIL_MIN: usize = 32;
+const TAIL_MIN_V1: usize = 24;
+/// Bits per delta for each 2-bit group header: version 0, and version 1's control modes 0 and 1.
+const BITS_V0: [u8; 4] = [0, 2, 4, 8];
+const BITS_V1: [[u8; 4]; 2] = [[0, 1, 2, 4], [1, 2, 4, 8]];
 
 /// One compressed buffer view, as its extension object describes it.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,6 +67,8 @@ enum Filter {
     Octahedral,
     Quaternion,
     Exponential,
+    /// `KHR_meshopt_compression` only: YCoCg colours.
+    Color,
 }
 
 /// Whether buffer `index` is a placeholder for decompressed data: no bytes of its own, marked
@@ -100,7 +109,8 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
         let fail = |problem: String| {
             ImportError::Invalid(format!("bufferViews[{index}].extensions.{name}: {problem}"))
         };
-        let c = parse(json).map_err(fail)?;
+        let khr = name == EXTENSIONS[1];
+        let c = parse(json, khr).map_err(fail)?;
         if c.byte_stride * c.count != view.byte_length.0 as usize {
             return Err(fail(format!(
                 "decodes to {} × {} bytes but the buffer view has {}",
@@ -120,7 +130,7 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
         }
         let mut bytes = vec![0u8; c.byte_stride * c.count];
         let decoded = match c.mode {
-            Mode::Attributes => decode_vertex_buffer(&mut bytes, c.count, c.byte_stride, source),
+            Mode::Attributes => decode_vertex_buffer(&mut bytes, c.count, c.byte_stride, source, khr),
             Mode::Triangles => decode_index_buffer(&mut bytes, c.count, c.byte_stride, source),
             Mode::Indices => decode_index_sequence(&mut bytes, c.count, c.byte_stride, source),
         };
@@ -132,7 +142,7 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
 }
 
 /// Reads and checks an extension object (the spec's validity rules).
-fn parse(json: &Value) -> Result<Compressed, String> {
+fn parse(json: &Value, khr: bool) -> Result<Compressed, String> {
     let size = |key: &str, required: bool| -> Result<usize, String> {
         match json.get(key) {
             None if !required => Ok(0),
@@ -155,6 +165,7 @@ fn parse(json: &Value) -> Result<Compressed, String> {
         Some("OCTAHEDRAL") => Filter::Octahedral,
         Some("QUATERNION") => Filter::Quaternion,
         Some("EXPONENTIAL") => Filter::Exponential,
+        Some("COLOR") if khr => Filter::Color,
         Some(other) => return Err(format!("unknown filter {other:?}")),
     };
     let c = Compressed {
@@ -171,6 +182,7 @@ fn parse(json: &Value) -> Result<Compressed, String> {
         (Mode::Attributes, _) if stride == 0 || stride % 4 != 0 || stride > 256 => false,
         (Mode::Attributes, Filter::Octahedral) => stride == 4 || stride == 8,
         (Mode::Attributes, Filter::Quaternion) => stride == 8,
+        (Mode::Attributes, Filter::Color) => stride == 4 || stride == 8,
         (Mode::Attributes, _) => true,
         (Mode::Triangles, Filter::None) => (stride == 2 || stride == 4) && c.count % 3 == 0,
         (Mode::Indices, Filter::None) => stride == 2 || stride == 4,
@@ -226,6 +238,14 @@ pub(crate) fn unzigzag8(v: u8) -> u8 {
     }
 }
 
+fn unzigzag16(v: u16) -> u16 {
+    if v & 1 != 0 {
+        !(v >> 1)
+    } else {
+        v >> 1
+    }
+}
+
 fn unzigzag32(v: u32) -> u32 {
     if v & 1 != 0 {
         !(v >> 1)
@@ -239,44 +259,100 @@ pub(crate) fn block_elements(stride: usize) -> usize {
     ((8192 / stride) & !15).min(256)
 }
 
-/// Mode 0: `count` elements of `stride` bytes into `out`.
-fn decode_vertex_buffer(out: &mut [u8], count: usize, stride: usize, src: &[u8]) -> Result<(), &'static str> {
-    let tail = stride.max(TAIL_MIN);
-    if src.len() < 1 + tail {
-        return Err("it is shorter than its header and baseline");
-    }
-    if src[0] != VERTEX_HEADER_V0 {
-        return Err("its header is not a version 0 attribute stream's");
-    }
-    // The baseline (the element before the first) is the stream's last `stride` bytes.
-    let mut last = src[src.len() - stride..].to_vec();
-    decode_v0(out, count, stride, &src[1..src.len() - tail], &mut last)
-}
-
-fn decode_v0(
+/// Mode 0: `count` elements of `stride` bytes into `out`. Version 1 streams are read only where
+/// `version_1` allows them (`KHR_meshopt_compression`).
+fn decode_vertex_buffer(
     out: &mut [u8],
     count: usize,
     stride: usize,
-    body: &[u8],
-    last: &mut [u8],
+    src: &[u8],
+    version_1: bool,
 ) -> Result<(), &'static str> {
+    let v1 = match src.first() {
+        Some(&VERTEX_HEADER_V0) => false,
+        Some(&VERTEX_HEADER_V1) if version_1 => true,
+        Some(&VERTEX_HEADER_V1) => {
+            return Err("version 1 of the attribute codec is KHR_meshopt_compression's")
+        }
+        _ => return Err("its header is not an attribute stream's"),
+    };
+    // The tail: zero padding, the baseline element (the one before the first), and in version 1
+    // one channel mode byte per 4 bytes of the element.
+    let modes_len = if v1 { stride / 4 } else { 0 };
+    let tail = (stride + modes_len).max(if v1 { TAIL_MIN_V1 } else { TAIL_MIN });
+    if src.len() < 1 + tail {
+        return Err("it is shorter than its header and tail");
+    }
+    let modes = &src[src.len() - modes_len..];
+    let mut last = src[src.len() - modes_len - stride..src.len() - modes_len].to_vec();
+    if let Some(m) = modes.iter().find(|&&m| m & 15 > 2 || (m & 15 < 2 && m >> 4 != 0)) {
+        return Err(if m & 15 > 2 {
+            "a channel mode is unknown"
+        } else {
+            "a channel mode has rotation bits"
+        });
+    }
+    let body = &src[1..src.len() - tail];
     let mut reader = Reader { bytes: body, at: 0 };
     let per_block = block_elements(stride);
-    let mut deltas = [0u8; 256];
+    // Deltas of one block, byte position by byte position: `deltas[k * 256 + i]`.
+    let mut deltas = vec![0u8; stride * 256];
     let mut start = 0;
     while start < count {
         let n = per_block.min(count - start);
         let groups = n.div_ceil(16);
-        for (k, previous) in last.iter_mut().enumerate() {
+        let control = if v1 { reader.take(stride / 4)? } else { &[][..] };
+        for k in 0..stride {
+            let column = &mut deltas[k * 256..k * 256 + groups * 16];
+            let bits = match control.get(k / 4).map(|c| (c >> ((k % 4) * 2)) & 3) {
+                None => BITS_V0,
+                Some(0) => BITS_V1[0],
+                Some(1) => BITS_V1[1],
+                Some(2) => {
+                    column.fill(0);
+                    continue;
+                }
+                Some(_) => {
+                    // Literal: the block's deltas as bytes, no header bits, no padding to 16.
+                    column[..n].copy_from_slice(reader.take(n)?);
+                    continue;
+                }
+            };
             let headers = reader.take(groups.div_ceil(4))?;
-            for g in 0..groups {
-                let mode = (headers[g / 4] >> ((g % 4) * 2)) & 3;
-                decode_group(&mut reader, mode, &mut deltas[g * 16..g * 16 + 16])?;
+            for (g, group) in column.chunks_exact_mut(16).enumerate() {
+                decode_group(&mut reader, bits[((headers[g / 4] >> ((g % 4) * 2)) & 3) as usize], group)?;
             }
-            for (i, &delta) in deltas[..n].iter().enumerate() {
-                *previous = previous.wrapping_add(unzigzag8(delta));
-                out[(start + i) * stride + k] = *previous;
+        }
+        for i in 0..n {
+            let element = &mut out[(start + i) * stride..(start + i + 1) * stride];
+            let delta = |k: usize| deltas[k * 256 + i];
+            for c in 0..stride / 4 {
+                let mode = modes.get(c).copied().unwrap_or(0);
+                let at = 4 * c;
+                let previous = &mut last[at..at + 4];
+                match mode & 15 {
+                    0 => {
+                        for (k, p) in previous.iter_mut().enumerate() {
+                            *p = p.wrapping_add(unzigzag8(delta(at + k)));
+                        }
+                    }
+                    1 => {
+                        for half in [0, 2] {
+                            let d = u16::from_le_bytes([delta(at + half), delta(at + half + 1)]);
+                            let p = u16::from_le_bytes([previous[half], previous[half + 1]]);
+                            let v = p.wrapping_add(unzigzag16(d));
+                            previous[half..half + 2].copy_from_slice(&v.to_le_bytes());
+                        }
+                    }
+                    _ => {
+                        let d = u32::from_le_bytes([0, 1, 2, 3].map(|k| delta(at + k)));
+                        let p = u32::from_le_bytes([previous[0], previous[1], previous[2], previous[3]]);
+                        let v = p ^ d.rotate_right(u32::from(mode >> 4));
+                        previous.copy_from_slice(&v.to_le_bytes());
+                    }
+                }
             }
+            element.copy_from_slice(&last);
         }
         start += n;
     }
@@ -286,21 +362,21 @@ fn decode_v0(
     Ok(())
 }
 
-/// One group of 16 zigzag deltas: mode 0 all zero, 1 two bits each, 2 four bits each (the
-/// all-ones value is a sentinel for a full byte after the group's bits), 3 a byte each.
-fn decode_group(reader: &mut Reader, mode: u8, deltas: &mut [u8]) -> Result<(), &'static str> {
-    match mode {
+/// One group of 16 zigzag deltas of `bits` bits each: 0 all zero, 8 a byte each, 1, 2 or 4 packed
+/// (1-bit deltas from the least significant bit of a byte, 2 and 4 from the most significant),
+/// where the all-ones value is a sentinel for a full byte after the group's packed bits.
+fn decode_group(reader: &mut Reader, bits: u8, deltas: &mut [u8]) -> Result<(), &'static str> {
+    match bits {
         0 => deltas.fill(0),
-        3 => deltas.copy_from_slice(reader.take(16)?),
+        8 => deltas.copy_from_slice(reader.take(16)?),
         _ => {
-            let bits = if mode == 1 { 2 } else { 4 };
-            let packed = reader.take(16 * bits / 8)?;
+            let bits = bits as usize;
+            let packed = reader.take(2 * bits)?;
             let sentinel = (1u8 << bits) - 1;
             let per_byte = 8 / bits;
             for (i, delta) in deltas.iter_mut().enumerate() {
-                // Most significant bits first within each byte.
-                let shift = 8 - bits * (i % per_byte + 1);
-                let v = (packed[i / per_byte] >> shift) & sentinel;
+                let place = if bits == 1 { i % 8 } else { 8 - bits * (i % per_byte + 1) };
+                let v = (packed[i / per_byte] >> place) & sentinel;
                 *delta = if v == sentinel { reader.byte()? } else { v };
             }
         }
@@ -477,6 +553,24 @@ fn apply_filter(bytes: &mut [u8], stride: usize, filter: Filter) {
                 e.copy_from_slice(&exponential(v).to_le_bytes());
             }
         }
+        Filter::Color if stride == 4 => {
+            for e in bytes.chunks_exact_mut(4) {
+                let rgba = color([0, 1, 2, 3].map(|k| i32::from(e[k] as i8)), i32::from(e[3]), 255.0);
+                for k in 0..4 {
+                    e[k] = rgba[k] as u8;
+                }
+            }
+        }
+        Filter::Color => {
+            for e in bytes.chunks_exact_mut(8) {
+                let c = |k: usize| i16::from_le_bytes([e[2 * k], e[2 * k + 1]]);
+                let alpha = i32::from(u16::from_le_bytes([e[6], e[7]]));
+                let rgba = color([0, 1, 2, 3].map(|k| i32::from(c(k))), alpha, 65535.0);
+                for k in 0..4 {
+                    e[2 * k..2 * k + 2].copy_from_slice(&(rgba[k] as u16).to_le_bytes());
+                }
+            }
+        }
     }
 }
 
@@ -508,6 +602,24 @@ fn quaternion(input: [i16; 4]) -> [i16; 4] {
         out[(max_component + k) % 4] = (v * 32767.0).round() as i16;
     }
     out
+}
+
+/// The colour filter: Y, Co, Cg as K-bit integers (Y unsigned, read here from the signed
+/// component: Y's K bits fit the component whatever its sign bit says, see below) and alpha as
+/// K-1 bits under a marker bit K-1, to RGBA in `[0, max]` integers, rounded. `alpha` is the fourth
+/// component unsigned; `input[3]` the same, sign-extended, unused.
+fn color(input: [i32; 4], alpha: i32, max: f32) -> [f32; 4] {
+    if alpha == 0 {
+        return [0.0; 4]; // no marker bit: not a valid encoding, the spec leaves it unspecified
+    }
+    let scale = (1i32 << (32 - alpha.leading_zeros())) - 1; // (1 << (msb + 1)) - 1
+                                                            // Y is unsigned: undo the sign extension of its component.
+    let y = input[0] & scale;
+    let (co, cg) = (input[1], input[2]);
+    let a = alpha & (scale >> 1);
+    let a = (a << 1) | (a & 1);
+    let factor = max / scale as f32;
+    [y + co - cg, y + cg, y - co - cg, a].map(|v| (v as f32 * factor).round().clamp(0.0, max))
 }
 
 /// The exponential filter: a signed 8-bit exponent over a signed 24-bit mantissa, `2^e · m`.

@@ -5,8 +5,8 @@
 //! The pipeline, in the order of this module's files:
 //! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
 //!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else) and decode
-//!    the buffer views stored meshopt-compressed (`meshopt`, `EXT_meshopt_compression`). A file
-//!    that requires an extension we cannot read (Draco, `KHR_meshopt_compression`, …) is an
+//!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`). A file
+//!    that requires an extension we cannot read (Draco, …) is an
 //!    [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
 //!    `KHR_texture_transform` (gltfpack's output) are read; a required texture format we do not
 //!    decode (KTX2, WebP, …) only drops those textures, with a warning.
@@ -101,8 +101,8 @@ pub enum ImportError {
 /// (`KHR_mesh_quantization`, gltfpack's default) are integer or normalized accessors, which
 /// `accessor` reads like any other; the base colour texture's `KHR_texture_transform` is applied
 /// to the primitive's uvs (`geometry`); compressed buffer views are decoded by `meshopt`.
-const READ_EXTENSIONS: [&str; 3] =
-    ["KHR_mesh_quantization", "KHR_texture_transform", "EXT_meshopt_compression"];
+const READ_EXTENSIONS: [&str; 4] =
+    ["KHR_mesh_quantization", "KHR_texture_transform", "EXT_meshopt_compression", "KHR_meshopt_compression"];
 
 /// Texture formats the viewer does not decode. A file may require them: the geometry, skins and
 /// clips are all there, so it imports and `material` drops each texture that has no core
@@ -117,10 +117,6 @@ fn unsupported_extension(name: &str) -> ImportError {
                       Blender's glTF exporter with compression off)";
     let (what, advice) = match name {
         "KHR_draco_mesh_compression" => ("Draco-compressed geometry", recompress),
-        "KHR_meshopt_compression" => (
-            "meshoptimizer-compressed buffers (the KHR version; the EXT version is read)",
-            "re-export with gltfpack -cc (EXT_meshopt_compression) or without compression",
-        ),
         _ => ("an extension the viewer does not know", "export the file without it"),
     };
     ImportError::UnsupportedExtension {
