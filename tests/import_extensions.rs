@@ -261,3 +261,46 @@ fn a_meshopt_compressed_buffer_view_decodes_into_a_placeholder_buffer() {
     let error = import(&model).expect_err("a corrupt stream");
     assert!(error.to_string().contains("bufferViews[0]"), "{error}");
 }
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn compressed_views_cannot_decode_to_far_more_than_the_file() {
+    // A valid stream of 5,461 all-equal 12-byte elements takes about 1 KiB (every group of 16 is
+    // two header bits) and decodes to 64 KiB. A hundred views sharing it would make a 2 KiB file
+    // allocate 6.4 MB: refused, naming the view that goes over.
+    let (count, stride): (usize, usize) = (5_461, 12);
+    let mut stream = vec![0xa0];
+    for start in (0..count).step_by(256) {
+        let groups = (count - start).min(256).div_ceil(16);
+        stream.extend(std::iter::repeat_n(0, stride * groups.div_ceil(4)));
+    }
+    stream.resize(stream.len() + 32, 0);
+    let mut model = TinyModel::new();
+    let offset = model.bin.len();
+    model.bin.extend_from_slice(&stream);
+    model.json["buffers"][0]["byteLength"] = Value::from(model.bin.len());
+    let placeholder =
+        r#"{"byteLength": 65532, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}"#;
+    model.json["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(gltf_json::deserialize::from_str(placeholder).unwrap());
+    let view = format!(
+        r#"{{"buffer": 1, "byteLength": 65532, "extensions": {{"EXT_meshopt_compression": {{"buffer": 0,
+            "byteOffset": {offset}, "byteLength": {}, "byteStride": 12, "count": {count}, "mode": "ATTRIBUTES"}}}}}}"#,
+        stream.len()
+    );
+    let view: Value = gltf_json::deserialize::from_str(&view).unwrap();
+    require(&mut model, &["EXT_meshopt_compression"]);
+    let views = model.json["bufferViews"].as_array_mut().unwrap();
+    views.push(view.clone());
+    let one = views.len();
+    import(&model).expect("one such view decodes");
+    model.json["bufferViews"].as_array_mut().unwrap().extend(std::iter::repeat_n(view, 99));
+    let error = import(&model).expect_err("a hundred");
+    assert!(error.to_string().contains("times the file"), "{error}");
+    assert!(
+        !error.to_string().contains(&format!("bufferViews[{}]", one - 1)),
+        "the first ones decode: {error}"
+    );
+}

@@ -14,8 +14,8 @@
 //!
 //! Every read is bounds-checked against the compressed bytes: a corrupt stream is an error naming
 //! the buffer view, never a panic. A view's decoded size is its declared `byteStride × count`,
-//! allowed only up to [`MAX_EXPANSION`] times its compressed size, so a forged count cannot make
-//! a small file allocate gigabytes.
+//! allowed only up to [`MAX_EXPANSION`] times its compressed size (and all views together that many
+//! times the file), so a forged count cannot make a small file allocate gigabytes.
 
 use gltf_json::{Root, Value};
 
@@ -101,6 +101,8 @@ fn extension_of(view: &gltf_json::buffer::View) -> Option<(&'static str, &Value)
 /// stream.
 pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<Vec<u8>>>, ImportError> {
     let mut out = Vec::with_capacity(root.buffer_views.len());
+    let file_bytes: usize = buffers.iter().map(|b| b.len()).sum();
+    let mut decoded_total = 0usize;
     for (index, view) in root.buffer_views.iter().enumerate() {
         let Some((name, json)) = extension_of(view) else {
             out.push(None);
@@ -121,14 +123,21 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
             .get(c.buffer)
             .and_then(|b| b.get(c.byte_offset..c.byte_offset.checked_add(c.byte_length)?))
             .ok_or_else(|| fail(format!("its bytes are not inside buffer {}", c.buffer)))?;
-        if c.byte_stride * c.count > MAX_EXPANSION * source.len() + 4096 {
+        let size = c.byte_stride * c.count;
+        if size > MAX_EXPANSION * source.len() + 4096 {
             return Err(fail(format!(
-                "claims {} decoded bytes from {} compressed ones (corrupt file?)",
-                c.byte_stride * c.count,
+                "claims {size} decoded bytes from {} compressed ones (corrupt file?)",
                 source.len()
             )));
         }
-        let mut bytes = vec![0u8; c.byte_stride * c.count];
+        // Views may share compressed bytes: the total is bounded by the file's size as well.
+        decoded_total += size;
+        if decoded_total > MAX_EXPANSION * file_bytes + 4096 {
+            return Err(fail(format!(
+                "the compressed views decode to over {MAX_EXPANSION} times the file's size"
+            )));
+        }
+        let mut bytes = vec![0u8; size];
         let decoded = match c.mode {
             Mode::Attributes => decode_vertex_buffer(&mut bytes, c.count, c.byte_stride, source, khr),
             Mode::Triangles => decode_index_buffer(&mut bytes, c.count, c.byte_stride, source),
