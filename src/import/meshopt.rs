@@ -124,15 +124,16 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
             .and_then(|b| b.get(c.byte_offset..c.byte_offset.checked_add(c.byte_length)?))
             .ok_or_else(|| fail(format!("its bytes are not inside buffer {}", c.buffer)))?;
         let size = c.byte_stride * c.count;
-        if size > MAX_EXPANSION * source.len() + 4096 {
+        // Saturating: on wasm32 64 × a large file's size does not fit a usize.
+        if size > MAX_EXPANSION.saturating_mul(source.len()).saturating_add(4096) {
             return Err(fail(format!(
                 "claims {size} decoded bytes from {} compressed ones (corrupt file?)",
                 source.len()
             )));
         }
         // Views may share compressed bytes: the total is bounded by the file's size as well.
-        decoded_total += size;
-        if decoded_total > MAX_EXPANSION * file_bytes + 4096 {
+        decoded_total = decoded_total.saturating_add(size);
+        if decoded_total > MAX_EXPANSION.saturating_mul(file_bytes).saturating_add(4096) {
             return Err(fail(format!(
                 "the compressed views decode to over {MAX_EXPANSION} times the file's size"
             )));
