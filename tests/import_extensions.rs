@@ -255,6 +255,12 @@ fn a_meshopt_compressed_buffer_view_decodes_into_a_placeholder_buffer() {
     let decoded = import(&model).expect("imports");
     assert_eq!(decoded.mesh.positions, plain.mesh.positions);
 
+    // gltfpack -cf names a fallback file for loaders without the extension: never fetched (a
+    // user who drops the .glb alone does not have it).
+    model.json["buffers"][1]["uri"] = Value::from("out.fallback.bin");
+    let decoded = import(&model).expect("imports without the fallback file");
+    assert_eq!(decoded.mesh.positions, plain.mesh.positions);
+
     // Cut short by one byte, the stream is an error naming the view.
     model.json["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteLength"] =
         Value::from(stream.len() - 1);

@@ -168,13 +168,15 @@ pub(crate) fn load_buffers<'a>(
     let mut buffers = Vec::with_capacity(root.buffers.len());
     for (index, buffer) in root.buffers.iter().enumerate() {
         let data: Cow<'a, [u8]> = match (&buffer.uri, bin) {
-            (Some(uri), _) => Cow::Owned(fetch_uri(uri, resolve)?.0),
             (None, Some(bin)) if index == 0 => Cow::Borrowed(bin),
-            // Where meshopt-compressed views decode to: nothing to load.
-            (None, _) if super::meshopt::is_placeholder(root, index) => {
+            // Where meshopt-compressed views decode to: nothing to load, even when it names a
+            // file (gltfpack -cf writes the uncompressed data beside the .glb as a fallback for
+            // loaders without the extension; a user who drops the .glb alone has no such file).
+            _ if super::meshopt::is_placeholder(root, index) => {
                 buffers.push(Cow::Borrowed(&[][..]));
                 continue;
             }
+            (Some(uri), _) => Cow::Owned(fetch_uri(uri, resolve)?.0),
             (None, _) => return Err(ImportError::MissingBinChunk(index)),
         };
         let declared = buffer.byte_length.0;

@@ -5,7 +5,9 @@
 // originals: the same levels with errors in model units, and no worse a skinned surface. Before
 // `clod::poses::bind_to_model_scale`, packed CesiumMan stopped at 3,764 of 4,672 triangles with a
 // level error of 76 bounding-box diagonals. Compressed files (`-c`, `-cc`: EXT_meshopt_compression;
-// `-cz`: KHR_meshopt_compression with its version 1 attribute codec) import as the uncompressed pack.
+// `-cz`: KHR_meshopt_compression with its version 1 attribute codec; `-cf`: compressed, with the
+// uncompressed data in a fallback file beside the .glb, which a user may not have) import as the
+// uncompressed pack.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { pack } from 'gltfpack';
@@ -74,16 +76,21 @@ function triangleSet(character) {
 }
 
 for (const name of ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']) {
-  test(`${name} compressed by gltfpack (-c, -cc: EXT_meshopt_compression; -cz: KHR_, version 1) imports as the uncompressed pack`, async (t) => {
+  test(`${name} compressed by gltfpack (-c, -cc, -cf: EXT_meshopt_compression; -cz: KHR_, version 1) imports as the uncompressed pack`, async (t) => {
     const bytes = modelBytes(name);
     if (!bytes) return t.skip('model missing');
     const plain = api.Character.fromGlb(await gltfpack(bytes));
     const diag = api.boundsDiagonal(plain.bindPositions());
     try {
-      for (const args of [['-c'], ['-cc'], ['-cz']]) {
+      for (const args of [['-c'], ['-cc'], ['-cz'], ['-cf']]) {
         const packed = await gltfpack(bytes, args);
         const extension = args[0] === '-cz' ? 'KHR_meshopt_compression' : 'EXT_meshopt_compression';
-        assert.ok(glbJson(packed).extensionsRequired.includes(extension), `${args}: compressed with ${extension}`);
+        // With a fallback the extension is only used: a loader without it reads the fallback file.
+        const declared = args[0] === '-cf' ? glbJson(packed).extensionsUsed : glbJson(packed).extensionsRequired;
+        assert.ok(declared.includes(extension), `${args}: compressed with ${extension}`);
+        if (args[0] === '-cf') {
+          assert.ok(glbJson(packed).buffers.some((b) => b.uri && b.extensions?.[extension]?.fallback), '-cf: a fallback file');
+        }
         const c = api.Character.fromGlb(packed);
         try {
           // The codecs are lossless: the same triangles, corner for corner.
