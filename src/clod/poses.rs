@@ -94,12 +94,16 @@ pub fn bind_to_model_scale(character: &Character) -> Option<f32> {
 
 /// Skin matrices of every frame a multi-pose build samples: `frames_per_clip` evenly spaced
 /// frames of each clip (the clip's end is left out since loops repeat their start), capped at
-/// [`MAX_FRAMES`] in total by sampling fewer frames per clip.
+/// [`MAX_FRAMES`] in total by sampling fewer frames per clip, down to one; a file with more
+/// clips than that (a motion library) gives one frame to each of [`MAX_FRAMES`] clips spread
+/// evenly over its list.
 pub fn multi_pose_frames(character: &Character, frames_per_clip: usize) -> Vec<Vec<Mat4>> {
     let clips = character.clips.len().max(1);
     let per_clip = frames_per_clip.clamp(1, (MAX_FRAMES / clips).max(1));
+    let sampled_clips = clips.min(MAX_FRAMES);
     let mut frames = Vec::new();
-    for clip in &character.clips {
+    // `k · clips / sampled_clips` is every clip when there are at most MAX_FRAMES of them.
+    for clip in (0..sampled_clips).filter_map(|k| character.clips.get(k * clips / sampled_clips)) {
         for f in 0..per_clip {
             let time = clip.duration() * f as f32 / per_clip as f32;
             let mut pose = character.skeleton.rest_pose();
@@ -380,6 +384,31 @@ mod tests {
         let mut q = vec![Quadric::ZERO; 3];
         add_frame_quadrics(&mut q, &TRIANGLE, &[0, 1, 2], None, &[frame; 3], 1.0, &[]);
         q
+    }
+
+    /// A one-joint character with `clips` empty clips.
+    fn with_clips(clips: usize) -> Character {
+        use crate::skeleton::{Node, SkinJoint, Transform};
+        let rest = Transform { translation: Vec3::ZERO, rotation: glam::Quat::IDENTITY, scale: Vec3::ONE };
+        Character {
+            mesh: crate::SkinnedMesh::default(),
+            skeleton: crate::Skeleton {
+                nodes: vec![Node { name: "root".into(), parent: None, rest }],
+                joints: vec![SkinJoint { node: 0, joint_from_bind: Mat4::IDENTITY }],
+            },
+            clips: (0..clips).map(|k| crate::animation::Clip::new(format!("clip {k}"), Vec::new())).collect(),
+            materials: Vec::new(),
+            morph_targets: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn frames_stay_within_the_cap_however_many_clips() {
+        let frames = |clips| multi_pose_frames(&with_clips(clips), DEFAULT_FRAMES_PER_CLIP).len();
+        // 8 per clip while that fits, then fewer per clip, then one frame of MAX_FRAMES clips.
+        assert_eq!([0, 1, 3, 6, 7, 10, 48].map(frames), [0, 8, 24, 48, 42, 40, 48]);
+        assert_eq!([49, 100, 1000].map(frames), [MAX_FRAMES; 3]);
     }
 
     #[test]
