@@ -96,28 +96,26 @@ impl PositionClasses {
 /// Groups the referenced vertices by bit-identical position. Class ids follow the order of each
 /// class's lowest vertex index, so the result does not depend on sorting details.
 pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionClasses {
+    // (x, y, z, vertex) as one integer, which sorts several times faster than a tuple. +0.0 and
+    // −0.0 are the same point; every other value compares by its bits.
     let key = |v: u32| {
+        let bits = |x: f32| u128::from(if x == 0.0 { 0 } else { x.to_bits() });
         let p = positions[v as usize];
-        // +0.0 and −0.0 are the same point; every other value compares by its bits.
-        let bits = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
-        (bits(p.x), bits(p.y), bits(p.z), v)
+        (bits(p.x) << 96) | (bits(p.y) << 64) | (bits(p.z) << 32) | u128::from(v)
     };
     let mut referenced = vec![false; positions.len()];
     for &i in indices {
         referenced[i as usize] = true;
     }
-    let mut order: Vec<u32> = (0..positions.len() as u32).filter(|&v| referenced[v as usize]).collect();
-    order.sort_unstable_by_key(|&v| key(v));
+    let mut order: Vec<u128> =
+        (0..positions.len() as u32).filter(|&v| referenced[v as usize]).map(key).collect();
+    order.sort_unstable();
     // Lowest vertex of each run of equal positions (the sort puts it first).
     let mut lowest = vec![NONE; positions.len()];
-    let mut run_start = 0;
-    for i in 0..order.len() {
-        let (x, y, z, _) = key(order[i]);
-        let (sx, sy, sz, _) = key(order[run_start]);
-        if (x, y, z) != (sx, sy, sz) {
-            run_start = i;
+    for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
+        for &packed in run {
+            lowest[packed as u32 as usize] = run[0] as u32;
         }
-        lowest[order[i] as usize] = order[run_start];
     }
     let mut class_of = vec![NONE; positions.len()];
     let mut representative = Vec::new();
