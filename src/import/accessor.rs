@@ -125,14 +125,31 @@ fn read<T: Copy + Default>(
     let elem = components * size;
     let check =
         |b: &[u8]| convert(ct, acc.normalized, b).ok_or_else(|| err(format!("has {ct:?} components")));
-    let mut values: Vec<T> = match acc.buffer_view {
-        None if count > MAX_ZERO_FILLED => {
+    // Elements read from bytes: the accessor's own buffer view, or what a Draco stream decoded
+    // for it (tightly packed, from offset 0).
+    let from_bytes = |bytes: &[u8], stride: usize, offset: u64, source: String| {
+        let needed = bytes_needed(offset, count as u64, stride as u64, elem as u64);
+        if needed > bytes.len() as u128 {
+            return Err(err(format!("needs {needed} bytes but {source} has {}", bytes.len())));
+        }
+        let mut values = Vec::with_capacity(count * components);
+        for i in 0..count {
+            let base = offset as usize + i * stride;
+            for c in 0..components {
+                values.push(check(&bytes[base + c * size..base + (c + 1) * size])?);
+            }
+        }
+        Ok(values)
+    };
+    let mut values: Vec<T> = match (src.buffers.draco_accessor(index), acc.buffer_view) {
+        (Some(decoded), _) => from_bytes(decoded, elem, 0, "its Draco stream".into())?,
+        (None, None) if count > MAX_ZERO_FILLED => {
             return Err(err(format!(
                 "has no buffer view and {count} elements, more than the limit of {MAX_ZERO_FILLED}"
             )))
         }
-        None => vec![T::default(); count * components],
-        Some(view) => {
+        (None, None) => vec![T::default(); count * components],
+        (None, Some(view)) => {
             let bytes = view_bytes(src.root, src.buffers, view.value())?;
             let view_json = &src.root.buffer_views[view.value()];
             let stride = view_json.byte_stride.map_or(elem, |s| s.0);
@@ -140,22 +157,7 @@ fn read<T: Copy + Default>(
                 return Err(err(format!("has {elem}-byte elements but a byte stride of {stride}")));
             }
             let offset = acc.byte_offset.map_or(0, |o| o.0);
-            let needed = bytes_needed(offset, count as u64, stride as u64, elem as u64);
-            if needed > bytes.len() as u128 {
-                return Err(err(format!(
-                    "needs {needed} bytes but buffer view {} has {}",
-                    view.value(),
-                    bytes.len()
-                )));
-            }
-            let mut values = Vec::with_capacity(count * components);
-            for i in 0..count {
-                let base = offset as usize + i * stride;
-                for c in 0..components {
-                    values.push(check(&bytes[base + c * size..base + (c + 1) * size])?);
-                }
-            }
-            values
+            from_bytes(bytes, stride, offset, format!("buffer view {}", view.value()))?
         }
     };
     if let Some(sparse) = &acc.sparse {

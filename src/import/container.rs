@@ -193,8 +193,11 @@ pub(crate) fn load_buffers<'a>(
         });
     }
     let sources: Vec<&[u8]> = buffers.iter().map(|b| &b[..]).collect();
+    let file_bytes: usize = sources.iter().map(|b| b.len()).sum();
     let decoded = super::meshopt::decode_views(root, &sources)?;
-    Ok(Buffers { buffers, decoded })
+    let mut loaded = Buffers { buffers, decoded, draco: Default::default() };
+    loaded.draco = super::draco::decode_primitives(root, &loaded, file_bytes)?;
+    Ok(loaded)
 }
 
 /// Every buffer's bytes, and the decoded bytes of the buffer views stored compressed
@@ -202,6 +205,16 @@ pub(crate) fn load_buffers<'a>(
 pub(crate) struct Buffers<'a> {
     buffers: Vec<Cow<'a, [u8]>>,
     decoded: Vec<Option<Vec<u8>>>,
+    /// The accessors of Draco-compressed primitives, decoded (see `draco`).
+    draco: super::draco::DecodedAccessors,
+}
+
+impl Buffers<'_> {
+    /// The decoded bytes of accessor `accessor` when a Draco-compressed primitive defines it:
+    /// its elements tightly packed in its declared type.
+    pub(crate) fn draco_accessor(&self, accessor: usize) -> Option<&[u8]> {
+        self.draco.get(&accessor).map(Vec::as_slice)
+    }
 }
 
 /// The bytes of buffer view `view`, checked against its buffer (or decoded, when compressed).

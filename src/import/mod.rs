@@ -5,8 +5,9 @@
 //! The pipeline, in the order of this module's files:
 //! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
 //!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else) and decode
-//!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`). A file
-//!    that requires an extension we cannot read (Draco, …) is an
+//!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`)
+//!    and the Draco-compressed primitives (`draco`: `KHR_draco_mesh_compression`). A file
+//!    that requires an extension we cannot read is an
 //!    [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
 //!    `KHR_texture_transform` (gltfpack's output) are read; a required texture format we do not
 //!    decode (KTX2, WebP, …) only drops those textures, with a warning.
@@ -28,6 +29,7 @@
 mod accessor;
 mod clips;
 mod container;
+mod draco;
 mod geometry;
 mod material;
 mod meshopt;
@@ -100,9 +102,15 @@ pub enum ImportError {
 /// Extensions a file may require that the importer reads: quantized attributes
 /// (`KHR_mesh_quantization`, gltfpack's default) are integer or normalized accessors, which
 /// `accessor` reads like any other; the base colour texture's `KHR_texture_transform` is applied
-/// to the primitive's uvs (`geometry`); compressed buffer views are decoded by `meshopt`.
-const READ_EXTENSIONS: [&str; 4] =
-    ["KHR_mesh_quantization", "KHR_texture_transform", "EXT_meshopt_compression", "KHR_meshopt_compression"];
+/// to the primitive's uvs (`geometry`); compressed buffer views are decoded by `meshopt`, and
+/// Draco-compressed primitives by `draco`.
+const READ_EXTENSIONS: [&str; 5] = [
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
+    "EXT_meshopt_compression",
+    "KHR_meshopt_compression",
+    draco::EXTENSION,
+];
 
 /// Texture formats the viewer does not decode. A file may require them: the geometry, skins and
 /// clips are all there, so it imports and `material` drops each texture that has no core
@@ -113,16 +121,10 @@ pub(crate) const TEXTURE_FORMAT_EXTENSIONS: [&str; 4] =
 /// The error for a required extension that is neither in [`READ_EXTENSIONS`] nor a texture
 /// format, saying what it is and what a user can do.
 fn unsupported_extension(name: &str) -> ImportError {
-    let recompress = "export or convert the file without it (for example gltf-transform or \
-                      Blender's glTF exporter with compression off)";
-    let (what, advice) = match name {
-        "KHR_draco_mesh_compression" => ("Draco-compressed geometry", recompress),
-        _ => ("an extension the viewer does not know", "export the file without it"),
-    };
     ImportError::UnsupportedExtension {
         name: name.to_string(),
-        what: what.to_string(),
-        advice: advice.to_string(),
+        what: "an extension the viewer does not know".to_string(),
+        advice: "export the file without it".to_string(),
     }
 }
 
@@ -204,10 +206,17 @@ fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
             }
         }
     }
+    // The accessors a Draco stream fills in have no buffer view (`draco`).
+    let draco_accessors: Vec<String> = draco::compressed_accessors(&root)
+        .into_iter()
+        .map(|a| format!("accessors[{a}].bufferView"))
+        .collect();
     let mut errors = Vec::new();
     root.validate(&root, gltf_json::Path::new, &mut |path, error| {
         let path = path();
         let at = path.as_str();
+        let decoded =
+            error == gltf_json::validation::Error::Missing && draco_accessors.iter().any(|a| a == at);
         // POSITION's min/max are required by the spec but only serve culling; we compute bounds
         // ourselves, so files that omit them still load.
         let bounds = at.ends_with(".min") || at.ends_with(".max");
@@ -218,7 +227,7 @@ fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
         let textureless = at.starts_with("textures[")
             && at.ends_with("].source")
             && error == gltf_json::validation::Error::Missing;
-        if !(bounds || required || textureless) {
+        if !(bounds || required || textureless || decoded) {
             errors.push((path, error));
         }
     });

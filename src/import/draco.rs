@@ -1,0 +1,192 @@
+//! `KHR_draco_mesh_compression`: primitives whose geometry is a Draco stream (what gltf-transform
+//! `draco`, gltf-pipeline and Blender's exporter with compression on write). Each stream is
+//! decoded with the `draco-core` crate (a pure Rust port of Google's Draco decoder) into the
+//! bytes of the primitive's own accessors, in their declared component type, tightly packed:
+//! the indices from the decoded faces, and each attribute the extension maps from its semantic
+//! to a Draco attribute id. `accessor` then reads those accessors like any other, so quantized,
+//! normalized and sparse handling stays in one place.
+//!
+//! The extension's accessors keep `count`, `type` and `componentType` but have no buffer view
+//! (or one with uncompressed fallback data, which is ignored here). Draco reconstructs
+//! quantized positions, octahedral normals and texture coordinates as floats and keeps joint
+//! indices as integers; a float attribute stored into a normalized integer accessor is scaled
+//! to its range. A decoded point or face count that differs from the accessor's is an error
+//! naming the primitive, as is a stream that does not decode. Decoded sizes are capped by the
+//! importer's own vertex and index limits, and in bytes by [`MAX_EXPANSION`] times the file.
+
+use std::collections::HashMap;
+
+use draco_core::{DecodeLimits, DecoderBuffer, Mesh, MeshDecoder, PointAttribute};
+use gltf_json::accessor::{ComponentType, GenericComponentType};
+use gltf_json::validation::Checked;
+use gltf_json::{Root, Value};
+
+use super::container::{view_bytes, Buffers};
+use super::meshopt::MAX_EXPANSION;
+use super::{ImportError, MAX_INDICES, MAX_VERTICES};
+
+/// The extension's name in `extensionsUsed` and on a primitive.
+pub(crate) const EXTENSION: &str = "KHR_draco_mesh_compression";
+
+/// The bytes of every accessor that a Draco-compressed primitive defines, by accessor index.
+pub(crate) type DecodedAccessors = HashMap<usize, Vec<u8>>;
+
+/// The accessors that Draco-compressed primitives define: their indices and the attributes the
+/// extension maps (they need no buffer view).
+pub(crate) fn compressed_accessors(root: &Root) -> Vec<usize> {
+    let mut accessors = Vec::new();
+    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
+        let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {
+            continue;
+        };
+        accessors.extend(primitive.indices.map(|i| i.value()));
+        let mapped = extension.get("attributes").and_then(Value::as_object);
+        for (semantic, accessor) in &primitive.attributes {
+            let name = match semantic {
+                Checked::Valid(s) => s.to_string(),
+                Checked::Invalid => continue,
+            };
+            if mapped.is_some_and(|m| m.contains_key(&name)) {
+                accessors.push(accessor.value());
+            }
+        }
+    }
+    accessors
+}
+
+/// Decodes every Draco-compressed primitive of `root`.
+///
+/// # Errors
+/// [`ImportError::Invalid`] naming the primitive: a malformed extension object, a stream that
+/// does not decode or is over the limits, or decoded counts that disagree with the accessors.
+pub(crate) fn decode_primitives(
+    root: &Root,
+    buffers: &Buffers,
+    file_bytes: usize,
+) -> Result<DecodedAccessors, ImportError> {
+    let mut decoded = DecodedAccessors::new();
+    let limits = DecodeLimits::default()
+        .with_max_points(MAX_VERTICES as u64)
+        .with_max_faces((MAX_INDICES / 3) as u64)
+        .with_max_decoded_bytes(file_bytes.saturating_mul(MAX_EXPANSION).max(1 << 20) as u64);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {
+                continue;
+            };
+            let bad =
+                |problem: String| ImportError::Invalid(format!("meshes[{m}].primitives[{p}]: {problem}"));
+            let view = extension
+                .get("bufferView")
+                .and_then(Value::as_u64)
+                .ok_or_else(|| bad(format!("{EXTENSION} has no bufferView")))?;
+            let stream = view_bytes(root, buffers, view as usize)?;
+            let mut mesh = Mesh::new();
+            MeshDecoder::new()
+                .decode(&mut DecoderBuffer::new(stream).with_limits(limits), &mut mesh)
+                .map_err(|e| bad(format!("its Draco stream does not decode ({e})")))?;
+            if let Some(indices) = primitive.indices {
+                decoded
+                    .entry(indices.value())
+                    .or_insert(index_bytes(root, indices.value(), &mesh).map_err(bad)?);
+            }
+            let attributes = extension
+                .get("attributes")
+                .and_then(Value::as_object)
+                .ok_or_else(|| bad(format!("{EXTENSION} has no attributes")))?;
+            for (semantic, id) in attributes {
+                let id = id.as_u64().ok_or_else(|| bad(format!("attribute {semantic} has no Draco id")))?;
+                let Some(accessor) = primitive
+                    .attributes
+                    .iter()
+                    .find(|(s, _)| matches!(s, Checked::Valid(s) if s.to_string() == *semantic))
+                    .map(|(_, a)| a.value())
+                else {
+                    continue; // compressed but not listed on the primitive: nothing reads it
+                };
+                let attribute = u32::try_from(id)
+                    .ok()
+                    .and_then(|id| mesh.attribute_by_unique_id(id))
+                    .ok_or_else(|| bad(format!("its Draco stream has no attribute {id} ({semantic})")))?;
+                let bytes = attribute_bytes(root, accessor, &mesh, attribute)
+                    .map_err(|problem| bad(format!("{semantic}: {problem}")))?;
+                decoded.entry(accessor).or_insert(bytes);
+            }
+        }
+    }
+    Ok(decoded)
+}
+
+/// The accessor's count, component type and normalized flag, and its component count.
+fn layout(root: &Root, accessor: usize) -> Result<(usize, ComponentType, bool, usize), String> {
+    let a = root.accessors.get(accessor).ok_or_else(|| format!("accessor {accessor} does not exist"))?;
+    let (Checked::Valid(ty), Checked::Valid(GenericComponentType(ct))) = (a.type_, a.component_type) else {
+        return Err(format!("accessor {accessor} has an invalid type"));
+    };
+    Ok((a.count.0 as usize, ct, a.normalized, ty.multiplicity()))
+}
+
+/// The decoded faces as the bytes of index accessor `accessor`.
+fn index_bytes(root: &Root, accessor: usize, mesh: &Mesh) -> Result<Vec<u8>, String> {
+    let (count, ct, _, _) = layout(root, accessor)?;
+    let faces = mesh.num_faces();
+    if count != faces * 3 {
+        return Err(format!("accessor {accessor} has {count} indices, its Draco stream {faces} triangles"));
+    }
+    let max = match ct {
+        ComponentType::U8 => u32::from(u8::MAX),
+        ComponentType::U16 => u32::from(u16::MAX),
+        ComponentType::U32 => u32::MAX,
+        _ => return Err(format!("index accessor {accessor} is not unsigned")),
+    };
+    let mut bytes = Vec::with_capacity(count * ct.size());
+    for f in 0..faces {
+        for point in mesh.face(draco_core::FaceIndex(f as u32)) {
+            let index = point.0;
+            if index > max {
+                return Err(format!("index {index} does not fit accessor {accessor}'s {ct:?}"));
+            }
+            match ct {
+                ComponentType::U8 => bytes.push(index as u8),
+                ComponentType::U16 => bytes.extend((index as u16).to_le_bytes()),
+                _ => bytes.extend(index.to_le_bytes()),
+            }
+        }
+    }
+    Ok(bytes)
+}
+
+/// A decoded attribute as the bytes of accessor `accessor`.
+fn attribute_bytes(
+    root: &Root,
+    accessor: usize,
+    mesh: &Mesh,
+    attribute: &PointAttribute,
+) -> Result<Vec<u8>, String> {
+    let (count, ct, normalized, components) = layout(root, accessor)?;
+    let points = mesh.num_points();
+    if count != points {
+        return Err(format!("accessor {accessor} has {count} elements, its Draco stream {points} points"));
+    }
+    let float =
+        matches!(attribute.data_type(), draco_core::DataType::Float32 | draco_core::DataType::Float64);
+    let mut bytes = Vec::with_capacity(count * components * ct.size());
+    for value in attribute.read_f32s(points, components) {
+        push_component(&mut bytes, ct, normalized && float, value);
+    }
+    Ok(bytes)
+}
+
+/// Appends `value` as one component of type `ct`: floats as they are, integers rounded into their
+/// range, scaled to it first when `scale` (a float in a normalized accessor, glTF §3.11).
+fn push_component(out: &mut Vec<u8>, ct: ComponentType, scale: bool, value: f32) {
+    let integer = |min: f32, max: f32| (if scale { value * max } else { value }).round().clamp(min, max);
+    match ct {
+        ComponentType::F32 => out.extend(value.to_le_bytes()),
+        ComponentType::U8 => out.push(integer(0.0, 255.0) as u8),
+        ComponentType::I8 => out.push(integer(-128.0, 127.0) as i8 as u8),
+        ComponentType::U16 => out.extend((integer(0.0, 65535.0) as u16).to_le_bytes()),
+        ComponentType::I16 => out.extend((integer(-32768.0, 32767.0) as i16).to_le_bytes()),
+        ComponentType::U32 => out.extend((integer(0.0, u32::MAX as f32) as u32).to_le_bytes()),
+    }
+}

@@ -1,0 +1,80 @@
+// Draco-compressed files (KHR_draco_mesh_compression), as a user gets them from `gltf-transform
+// draco` with Google's own encoder (draco3dgltf, the library Blender's exporter and gltf-pipeline also
+// use), in memory: the shared models and the generated robot (28 primitives, morph targets on
+// the face), with the EdgeBreaker and the sequential connectivity codecs. Each must import with
+// its clips, skins and morph targets, skin to the uncompressed file's surface within the
+// encoder's quantization (14-bit positions: under 1e-3 of the diagonal) at every measured
+// frame, and build its levels. Draco reorders and welds vertices, so surfaces are compared,
+// not arrays.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { NodeIO } from '@gltf-transform/core';
+import { ALL_EXTENSIONS } from '@gltf-transform/extensions';
+import { draco } from '@gltf-transform/functions';
+import draco3d from 'draco3dgltf';
+import { api, modelBytes } from './models.mjs';
+
+const io = new NodeIO().registerExtensions(ALL_EXTENSIONS).registerDependencies({
+  'draco3d.encoder': await draco3d.createEncoderModule(),
+  'draco3d.decoder': await draco3d.createDecoderModule(),
+});
+
+/** `bytes` through `gltf-transform draco --method METHOD` (which welds, then compresses every primitive). */
+async function dracoCompress(bytes, method) {
+  const document = await io.readBinary(bytes);
+  await document.transform(draco({ method }));
+  return io.writeBinary(document);
+}
+
+/** The JSON chunk of a GLB. */
+function glbJson(bytes) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + view.getUint32(12, true))));
+}
+
+const robot = () => new Uint8Array(readFileSync(fileURLToPath(new URL('../../assets/robot.glb', import.meta.url))));
+const cases = [
+  ['CesiumMan.glb', () => modelBytes('CesiumMan.glb'), 'edgebreaker'],
+  ['Fox.glb', () => modelBytes('Fox.glb'), 'edgebreaker'],
+  ['RiggedSimple.glb', () => modelBytes('RiggedSimple.glb'), 'sequential'],
+  ['robot.glb', robot, 'edgebreaker'],
+  ['robot.glb', robot, 'sequential'],
+];
+
+for (const [name, load, method] of cases) {
+  test(`${name} compressed with Draco (${method}) imports, skins as the original and builds its levels`, async (t) => {
+    const bytes = load();
+    if (!bytes) return t.skip('model missing');
+    const packed = await dracoCompress(bytes, method);
+    const json = glbJson(packed);
+    assert.ok(json.extensionsRequired.includes('KHR_draco_mesh_compression'));
+    const compressed = json.meshes.flatMap((m) => m.primitives).filter((p) => p.extensions?.KHR_draco_mesh_compression);
+    assert.ok(compressed.length > 0, 'the encoder compressed primitives');
+    const original = api.Character.fromGlb(bytes);
+    const c = api.Character.fromGlb(packed);
+    try {
+      assert.deepEqual(c.warnings, original.warnings);
+      assert.equal(c.triangleCount, original.triangleCount);
+      assert.equal(c.jointCount, original.jointCount);
+      assert.equal(c.morphTargetCount, original.morphTargetCount);
+      assert.deepEqual(c.clipNames, original.clipNames);
+      const diag = api.boundsDiagonal(original.bindPositions());
+      for (const clip of original.clipNames) {
+        for (const f of [0.1, 0.45, 0.8]) {
+          const time = original.clipDuration(clip) * f;
+          const d = api.surfaceDistance(original.skinnedPositions(clip, time), original.indices(),
+            c.skinnedPositions(clip, time), c.indices(), 4000, 1);
+          assert.ok(d.hausdorff / diag < 1e-3, `${clip} at ${time.toFixed(2)} s: ${d.hausdorff / diag} of the diagonal`);
+        }
+      }
+      const clod = c.buildClod();
+      assert.ok(clod.levelCount > 2, `${clod.levelCount} levels`);
+      clod.free();
+    } finally {
+      c.free();
+      original.free();
+    }
+  });
+}
