@@ -12,11 +12,12 @@
 //! indices as integers; a float attribute stored into a normalized integer accessor is scaled
 //! to its range. A decoded point or face count that differs from the accessor's is an error
 //! naming the primitive, as is a stream that does not decode. Decoded sizes are capped by the
-//! importer's own vertex and index limits, and in bytes by [`MAX_EXPANSION`] times the file.
+//! importer's own vertex and index limits, and in bytes, all streams together, by
+//! [`MAX_EXPANSION`] times the file (at least [`MIN_BUDGET`]).
 
 use std::collections::HashMap;
 
-use draco_core::{DecodeLimits, DecoderBuffer, Mesh, MeshDecoder, PointAttribute};
+use draco_core::{DecodeLimits, DecoderBuffer, ErrorKind, Mesh, MeshDecoder, PointAttribute};
 use gltf_json::accessor::{ComponentType, GenericComponentType};
 use gltf_json::validation::Checked;
 use gltf_json::{Root, Value};
@@ -24,6 +25,9 @@ use gltf_json::{Root, Value};
 use super::container::{view_bytes, Buffers};
 use super::meshopt::MAX_EXPANSION;
 use super::{ImportError, MAX_INDICES, MAX_VERTICES};
+
+/// The smallest decoding budget, for tiny files: 1 MiB.
+const MIN_BUDGET: usize = 1 << 20;
 
 /// The extension's name in `extensionsUsed` and on a primitive.
 pub(crate) const EXTENSION: &str = "KHR_draco_mesh_compression";
@@ -65,10 +69,9 @@ pub(crate) fn decode_primitives(
     file_bytes: usize,
 ) -> Result<DecodedAccessors, ImportError> {
     let mut decoded = DecodedAccessors::new();
-    let limits = DecodeLimits::default()
-        .with_max_points(MAX_VERTICES as u64)
-        .with_max_faces((MAX_INDICES / 3) as u64)
-        .with_max_decoded_bytes(file_bytes.saturating_mul(MAX_EXPANSION).max(1 << 20) as u64);
+    // What all streams together may decode to: primitives may share one stream, so each decode
+    // gets what the ones before it left.
+    let mut budget = file_bytes.saturating_mul(MAX_EXPANSION).max(MIN_BUDGET);
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {
@@ -81,14 +84,30 @@ pub(crate) fn decode_primitives(
                 .and_then(Value::as_u64)
                 .ok_or_else(|| bad(format!("{EXTENSION} has no bufferView")))?;
             let stream = view_bytes(root, buffers, view as usize)?;
+            let limits = DecodeLimits::default()
+                .with_max_points(MAX_VERTICES as u64)
+                .with_max_faces((MAX_INDICES / 3) as u64)
+                .with_max_decoded_bytes(budget as u64);
+            let too_large = || {
+                bad(format!("the file's Draco streams decode to more than {MAX_EXPANSION} times its size"))
+            };
             let mut mesh = Mesh::new();
             MeshDecoder::new()
                 .decode(&mut DecoderBuffer::new(stream).with_limits(limits), &mut mesh)
-                .map_err(|e| bad(format!("its Draco stream does not decode ({e})")))?;
+                .map_err(|e| match e.kind() {
+                    ErrorKind::LimitExceeded => too_large(),
+                    _ => bad(format!("its Draco stream does not decode ({e})")),
+                })?;
+            let mut spend = |bytes: Vec<u8>| match budget.checked_sub(bytes.len()) {
+                Some(left) => {
+                    budget = left;
+                    Ok(bytes)
+                }
+                None => Err(too_large()),
+            };
             if let Some(indices) = primitive.indices {
-                decoded
-                    .entry(indices.value())
-                    .or_insert(index_bytes(root, indices.value(), &mesh).map_err(bad)?);
+                let bytes = spend(index_bytes(root, indices.value(), &mesh).map_err(bad)?)?;
+                decoded.entry(indices.value()).or_insert(bytes);
             }
             let attributes = extension
                 .get("attributes")
@@ -110,7 +129,7 @@ pub(crate) fn decode_primitives(
                     .ok_or_else(|| bad(format!("its Draco stream has no attribute {id} ({semantic})")))?;
                 let bytes = attribute_bytes(root, accessor, &mesh, attribute)
                     .map_err(|problem| bad(format!("{semantic}: {problem}")))?;
-                decoded.entry(accessor).or_insert(bytes);
+                decoded.entry(accessor).or_insert(spend(bytes)?);
             }
         }
     }

@@ -5,7 +5,8 @@
 // its clips, skins and morph targets, skin to the uncompressed file's surface within the
 // encoder's quantization (14-bit positions: under 1e-3 of the diagonal) at every measured
 // frame, and build its levels. Draco reorders and welds vertices, so surfaces are compared,
-// not arrays.
+// not arrays. Primitives sharing one stream cannot make a small file decode to gigabytes: all
+// streams together decode to at most 64 times the file.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -78,3 +79,39 @@ for (const [name, load, method] of cases) {
     }
   });
 }
+
+/** `bytes` with its JSON chunk replaced by `json`. */
+function withJson(bytes, json) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const rest = bytes.subarray(20 + view.getUint32(12, true));
+  const text = new TextEncoder().encode(JSON.stringify(json));
+  const chunk = new Uint8Array(Math.ceil(text.length / 4) * 4).fill(0x20);
+  chunk.set(text);
+  const out = new Uint8Array(20 + chunk.length + rest.length);
+  const header = new DataView(out.buffer);
+  header.setUint32(0, 0x46546c67, true);
+  header.setUint32(4, 2, true);
+  header.setUint32(8, out.length, true);
+  header.setUint32(12, chunk.length, true);
+  header.setUint32(16, 0x4e4f534a, true);
+  out.set(chunk, 20);
+  out.set(rest, 20 + chunk.length);
+  return out;
+}
+
+test('Draco streams shared by many primitives cannot decode to far more than the file', async (t) => {
+  const bytes = modelBytes('CesiumMan.glb');
+  if (!bytes) return t.skip('model missing');
+  const packed = await dracoCompress(bytes, 'edgebreaker');
+  const json = glbJson(packed);
+  // One primitive decodes to about 1.5 times this file; a hundred sharing its stream, to 150.
+  const primitive = json.meshes[0].primitives[0];
+  json.meshes[0].primitives = Array.from({ length: 100 }, () => primitive);
+  assert.throws(() => api.Character.fromGlb(withJson(packed, json)), /more than 64 times its size/);
+  json.meshes[0].primitives = [primitive, primitive];
+  const once = api.Character.fromGlb(packed);
+  const twice = api.Character.fromGlb(withJson(packed, json));
+  assert.equal(twice.triangleCount, 2 * once.triangleCount);
+  twice.free();
+  once.free();
+});
