@@ -153,7 +153,7 @@ impl Character {
     /// `options` (all optional): `pose`: `'multi'` (default: quadrics over frames of every clip),
     /// `'mid-clip'` (the middle of the first clip), `'bind'` or `{ clip, time }`;
     /// `levels`: decreasing triangle counts; `mode`: `'full'` (default) or `'halfedge'`;
-    /// `weights`: `'survivor'` (default) or `'blend'` for the skin weights of new vertices;
+    /// `weights`: `'blend'` (default) or `'survivor'` for the skin weights of new vertices;
     /// `schedule`: `'strict'` (default: always the cheapest collapse next) or `'passes'` (batched
     /// collapse passes, faster, see `Schedule`);
     /// `maxError`: the floor, stop before a collapse whose error exceeds this fraction of the

@@ -6,7 +6,7 @@ mod common;
 
 use std::collections::{HashMap, HashSet};
 
-use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose};
+use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose, WeightRule};
 use clod_viewer::metrics::bounds_diagonal;
 use clod_viewer::simplify::{CollapseMode, Schedule, StopReason};
 use clod_viewer::{import, Character};
@@ -142,6 +142,48 @@ fn skinning_each_level_at_the_simplification_pose_reproduces_its_static_position
             assert!(worst <= 1e-5 * diagonal, "{name} level {i}: skinned differs from static by {worst}");
         }
         assert_eq!(clod.apm.singular_back_propagations, 0, "{name}");
+    }
+}
+
+/// Both weight rules, at a bent pose where every joint moves: the survivor rule copies the
+/// survivor's influences; the blend rule (the default) gives convex influences, at most four,
+/// that differ from the survivor's somewhere on a model with smooth weights; with either, every
+/// level skinned at the simplification pose is its static mesh.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn both_weight_rules_skin_created_vertices_consistently() {
+    assert_eq!(ClodOptions::default().weights, WeightRule::Blend);
+    let Some(character) = load("CesiumMan.glb") else { return };
+    let clip = &character.clips[0];
+    let time = clip.duration() * 0.5;
+    let pose = SimplificationPose::ClipFrame { clip: clip.name.clone(), time };
+    let skin = character.skin_matrices(&character.pose_at(clip, time));
+    let diagonal = bounds_diagonal(&character.skinned_positions(&character.pose_at(clip, time)));
+    for rule in [WeightRule::Survivor, WeightRule::Blend] {
+        let clod =
+            build(&character, &ClodOptions { pose: pose.clone(), weights: rule, ..ClodOptions::default() });
+        check_chain(&format!("{rule:?}"), &clod);
+        let apm = &clod.apm;
+        let inputs = apm.pm.input_vertex_count;
+        let mut differs = 0;
+        for x in inputs..apm.joints.len() {
+            let s = apm.pm.survivor_source[x] as usize;
+            let same = apm.joints[x] == apm.joints[s] && apm.weights[x] == apm.weights[s];
+            differs += usize::from(!same);
+            let w = apm.weights[x];
+            assert!(w.iter().all(|&w| (0.0..=1.0).contains(&w)), "{rule:?} vertex {x}: {w:?}");
+            assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{rule:?} vertex {x}: {w:?}");
+        }
+        match rule {
+            WeightRule::Survivor => assert_eq!(differs, 0),
+            WeightRule::Blend => assert!(differs > 0, "no created vertex blends its influences"),
+        }
+        for i in 0..clod.levels.len() {
+            let skinned = clod.level_skinned_positions(i, &skin);
+            let fixed = clod.level_pose_positions(i);
+            let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-5 * diagonal, "{rule:?} level {i}: skinned differs from static by {worst}");
+        }
     }
 }
 

@@ -115,7 +115,7 @@ function buildOffMainThread(moduleUrl, source, onProgress) {
 // --- the LOD chain cache (IndexedDB) ------------------------------------------------------------
 
 // Bumped when the chain's bytes change meaning beyond what `decode` checks.
-const CACHE_VERSION = 2; // 2: P0 of bind and multi-pose builds is in model units (clod::poses::bind_to_model_scale)
+const CACHE_VERSION = 3; // 3: created vertices blend their children's weights by default; 2: P0 of bind and multi-pose builds in model units
 const CACHE_DB = 'clod-viewer';
 const CACHE_STORE = 'chains';
 
