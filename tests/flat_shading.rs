@@ -149,6 +149,52 @@ fn smooth_and_uv_seams_are_not_welded() {
     assert!(!weld.flat[..10].iter().any(|&f| f));
 }
 
+/// Exporters that split a vertex per face renormalise each copy's weights, so the copies' weights
+/// differ in the last bits (RiggedSimple.glb): they still weld. Copies whose weights really differ
+/// (a step of 8-bit weights) do not, and neither do copies with other joints.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn copies_whose_weights_differ_by_rounding_are_welded() {
+    let materials = vec![0; 36];
+    let positions_welded = |weld: &clod::shading::ShadingWeld| {
+        let mut reps = weld.representative.clone();
+        reps.sort();
+        reps.dedup();
+        reps.len()
+    };
+    let skinned = |weight_of: &dyn Fn(usize) -> ([u16; 4], [f32; 4])| {
+        let mut character = flat_box_strip();
+        for v in 0..48 {
+            (character.mesh.joints[v], character.mesh.weights[v]) = weight_of(v);
+        }
+        clod::shading::ShadingWeld::new(&character.mesh, &materials)
+    };
+    // Each copy's weights off by up to 48 ulps of 0.25, in either order of the influences, with
+    // an unused third joint that varies: all 48 corners weld into the 20 positions.
+    let rounding = skinned(&|v| {
+        let w = 0.25 + v as f32 * 3e-8;
+        let unused = (v % 3) as u16 + 2;
+        if v % 2 == 0 {
+            ([0, 1, unused, 0], [1.0 - w, w, 0.0, 0.0])
+        } else {
+            ([1, 0, 0, unused], [w, 1.0 - w, 0.0, 0.0])
+        }
+    });
+    assert!(rounding.flat.iter().all(|&f| f));
+    assert_eq!(positions_welded(&rounding), 20);
+    // Weights a step of 1/255 apart at every other vertex: those stay apart from the rest.
+    let steps = skinned(&|v| {
+        let w = 0.25 + (v % 2) as f32 / 255.0;
+        ([0, 1, 0, 0], [1.0 - w, w, 0.0, 0.0])
+    });
+    assert!(positions_welded(&steps) > 20);
+    let reps = &steps.representative;
+    assert!((0..48).all(|v| reps[v] as usize % 2 == v % 2), "a copy welded across a weight step");
+    // Another joint: not welded to copies that use joint 1.
+    let joints = skinned(&|v| ([0, if v % 2 == 0 { 1 } else { 2 }, 0, 0], [0.75, 0.25, 0.0, 0.0]));
+    assert!((0..48).all(|v| joints.representative[v] as usize % 2 == v % 2));
+}
+
 /// A unit cube of 8 shared corners and 12 triangles with no NORMAL attribute, as a `.gltf`.
 fn cube_without_normals() -> Vec<u8> {
     use base64::Engine;

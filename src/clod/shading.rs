@@ -12,7 +12,8 @@
 //!   vertices and one is flat (inside a subdivided facet); a lone vertex on a planar patch of a
 //!   smooth mesh stays smooth;
 //! - flat vertices that share position, uv, colour, skin and material are **welded** into their
-//!   lowest-index vertex, whose normal the simplifier does not price (see
+//!   lowest-index vertex (skin weights within [`SKIN_WELD_TOLERANCE`], since exporters that split
+//!   a vertex per face renormalise each copy's weights), whose normal the simplifier does not price (see
 //!   [`ShadingWeld::simplifier_normals`]). The simplifier collapses the welded mesh; uv, colour
 //!   and material borders stay constraints, and so do creases between smooth groups (non-flat
 //!   vertices are never welded: a crease that survives stays sharp);
@@ -33,10 +34,34 @@ use crate::mesh::SkinnedMesh;
 /// by far more than 2° away from the faces around it.
 const FLAT_COS: f32 = 0.999_39;
 
-/// What flat vertices of one position must share to be welded, as bits: uv, colour (zero when
-/// the mesh has none), joints, weights and material.
-const WELD_KEY_LENGTH: usize = 15;
+/// What flat vertices of one position must share exactly to be welded, as bits: uv, colour (zero
+/// when the mesh has none) and material. Their skins must agree within [`SKIN_WELD_TOLERANCE`].
+const WELD_KEY_LENGTH: usize = 7;
 type WeldKey = [u32; WELD_KEY_LENGTH];
+
+/// Two copies of a vertex skin alike when each joint's weight differs by at most this. Exporters
+/// that split a vertex per face renormalise each copy's weights in f32, so the copies differ in
+/// the last bits (RiggedSimple.glb: 0.015826821 and 0.015826799 at one facet corner; compared by
+/// bits, 19 of its 960 vertices welded, every edge along its length stayed a normal seam and its
+/// levels kept every ring). A weight off by 1e-4 moves the vertex by 1e-4 of its joints'
+/// relative motion, far under a pixel; weights quantised to 8 bits that differ by a step
+/// (1/255) still keep their copies apart.
+pub const SKIN_WELD_TOLERANCE: f32 = 1e-4;
+
+/// The weight `joints`/`weights` give `joint` (summed, should a joint repeat).
+fn influence(joints: [u16; 4], weights: [f32; 4], joint: u16) -> f32 {
+    joints.iter().zip(&weights).filter(|(&j, _)| j == joint).map(|(_, &w)| w).sum()
+}
+
+/// Whether two vertices' skins agree within [`SKIN_WELD_TOLERANCE`] for every joint either uses
+/// (the order of the influences and the joints of zero weights do not matter).
+fn same_skin(a: ([u16; 4], [f32; 4]), b: ([u16; 4], [f32; 4])) -> bool {
+    a.0.iter().chain(&b.0).all(|&joint| {
+        // A NaN weight compares false: its vertex never welds.
+        let d = (influence(a.0, a.1, joint) - influence(b.0, b.1, joint)).abs();
+        d <= SKIN_WELD_TOLERANCE
+    })
+}
 
 /// The unit normal of triangle `(a, b, c)` (counter-clockwise front), `None` when degenerate.
 pub fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
@@ -96,11 +121,10 @@ impl ShadingWeld {
             if let Some(colors) = &mesh.colors {
                 key[2..6].copy_from_slice(&colors[v].to_array().map(f32::to_bits));
             }
-            key[6..10].copy_from_slice(&mesh.joints[v].map(u32::from));
-            key[10..14].copy_from_slice(&mesh.weights[v].map(f32::to_bits));
-            key[14] = material[v].unwrap_or(0);
+            key[6] = material[v].unwrap_or(0);
             key
         };
+        let skin = |v: u32| (mesh.joints[v as usize], mesh.weights[v as usize]);
         // (x, y, z, vertex) packed in one integer, which sorts several times faster than a tuple.
         let mut by_position: Vec<u128> = (0..n)
             .filter(|&v| candidate[v])
@@ -122,10 +146,19 @@ impl ShadingWeld {
             by_key.clear();
             by_key.extend(run.iter().map(|&packed| (key(packed as u32 as usize), packed as u32)));
             by_key.sort_unstable();
-            for group in by_key.chunk_by(|a, b| a.0 == b.0).filter(|group| group.len() >= 2) {
-                for &(_, v) in group {
+            for same_key in by_key.chunk_by(|a, b| a.0 == b.0).filter(|run| run.len() >= 2) {
+                // In vertex order, each corner joins the first earlier one whose skin it matches
+                // (its group's lowest vertex), else starts a group.
+                for (k, &(_, v)) in same_key.iter().enumerate() {
+                    let Some(&(_, first)) = same_key[..k]
+                        .iter()
+                        .find(|&&(_, w)| representative[w as usize] == w && same_skin(skin(w), skin(v)))
+                    else {
+                        continue;
+                    };
+                    flat[first as usize] = true;
                     flat[v as usize] = true;
-                    representative[v as usize] = group[0].1;
+                    representative[v as usize] = first;
                 }
             }
         }
