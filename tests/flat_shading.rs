@@ -1,6 +1,8 @@
 //! Flat shading: a faceted mesh simplifies along its faces (normal seams are not constraints), and
 //! the renderer's levels carry each triangle's face normal at both ends of a geomorph.
 
+mod common;
+
 use clod_viewer::clod::{self, shading::face_normal, ClodOptions, SimplificationPose};
 use clod_viewer::mesh::PrimitiveRange;
 use clod_viewer::render::lod_source::LodSource;
@@ -193,6 +195,75 @@ fn copies_whose_weights_differ_by_rounding_are_welded() {
     // Another joint: not welded to copies that use joint 1.
     let joints = skinned(&|v| ([0, if v % 2 == 0 { 1 } else { 2 }, 0, 0], [0.75, 0.25, 0.0, 0.0]));
     assert!((0..48).all(|v| joints.representative[v] as usize % 2 == v % 2));
+}
+
+/// Facet corners whose morph targets move them apart are not one vertex: a facet corner of a
+/// morphing part that touches a still one keeps its own deltas (the generated robot's face plate
+/// on its head). Normal deltas do not matter to a flat vertex.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn facet_corners_that_morph_apart_are_not_welded() {
+    let materials = vec![0; 36];
+    let mut character = flat_box_strip();
+    let mut morph = clod_viewer::morph::MorphDeltas::default();
+    // Vertex 0 (a corner of the face z = 0) moves with target 0, the other copies of its
+    // position do not; every vertex has a normal delta of its own.
+    for v in 0..48 {
+        let normal_delta = Vec3::splat(v as f32 * 0.01);
+        let position_delta = if v == 0 { Vec3::Z } else { Vec3::ZERO };
+        morph.push_row([(0u16, position_delta, normal_delta)]);
+    }
+    character.mesh.morph = morph;
+    let weld = clod::shading::ShadingWeld::new(&character.mesh, &materials);
+    assert_eq!(weld.representative[0], 0);
+    assert!((1..48).all(|v| weld.representative[v] != 0), "a still copy welded into the morphing corner");
+    let mut reps = weld.representative.clone();
+    reps.sort();
+    reps.dedup();
+    assert_eq!(reps.len(), 21, "the 20 positions, and vertex 0 on its own");
+}
+
+/// An exporter that writes every triangle corner as its own vertex under an index buffer: every
+/// edge is a seam of identical sides. The copies weld (they stay smooth), and the chain reaches as
+/// far as the file's own (it stopped at 3,728 of CesiumMan's 4,672 triangles before).
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_mesh_split_per_corner_simplifies_like_the_original() {
+    let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
+    let original = clod_viewer::import::from_glb(&bytes).expect("CesiumMan imports");
+    let mut split = original.clone();
+    let m = &original.mesh;
+    let corners: Vec<usize> = m.indices.iter().map(|&v| v as usize).collect();
+    split.mesh.positions = corners.iter().map(|&v| m.positions[v]).collect();
+    split.mesh.normals = corners.iter().map(|&v| m.normals[v]).collect();
+    split.mesh.uvs = m.uvs.as_ref().map(|uvs| corners.iter().map(|&v| uvs[v]).collect());
+    split.mesh.colors = m.colors.as_ref().map(|colors| corners.iter().map(|&v| colors[v]).collect());
+    split.mesh.joints = corners.iter().map(|&v| m.joints[v]).collect();
+    split.mesh.weights = corners.iter().map(|&v| m.weights[v]).collect();
+    split.mesh.indices = (0..corners.len() as u32).collect();
+    assert!(m.morph.is_empty(), "CesiumMan has no morph targets to split");
+    // The 14,016 corners weld back into no more vertices than the file has (its own copies
+    // along uv seams stay apart).
+    let weld = clod::shading::ShadingWeld::of_character(&split);
+    let mut reps = weld.representative.clone();
+    reps.sort();
+    reps.dedup();
+    assert!(
+        reps.len() <= m.vertex_count(),
+        "{} welded vertices, the file has {}",
+        reps.len(),
+        m.vertex_count()
+    );
+    let levels = |c: &Character| -> Vec<usize> {
+        let built = clod::build(c, &ClodOptions::default(), &mut |_| {}).expect("CesiumMan simplifies");
+        built.levels.iter().map(|l| l.triangle_count()).collect()
+    };
+    let (got, want) = (levels(&split), levels(&original));
+    assert_eq!(got.len(), want.len(), "split {got:?}, original {want:?}");
+    assert!(
+        got.last() <= Some(&(want.last().unwrap() + want.last().unwrap() / 4)),
+        "split {got:?}, original {want:?}"
+    );
 }
 
 /// A unit cube of 8 shared corners and 12 triangles with no NORMAL attribute, as a `.gltf`.

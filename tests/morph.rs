@@ -15,6 +15,7 @@ use clod_viewer::render::crowd::PosePalette;
 use clod_viewer::simplify::CollapseMode;
 use clod_viewer::{import, Character};
 use glam::Vec3;
+use std::collections::HashMap;
 
 /// The grid's buffer: positions, normals, indices, the dense target, the sparse target's index
 /// and value, key times, linear weights and cubic-spline weights, in that order.
@@ -264,20 +265,31 @@ fn chain_bytes_keep_the_deltas_and_reject_another_characters() {
     assert_eq!(error, ClodBytesError::OtherCharacter);
 }
 
-/// `character` with three seeded random sparse targets: each vertex moves with each target with
-/// probability 1/3, by up to 5 % of the diagonal (normals by up to 0.1).
+/// `character` with three seeded random sparse targets: each position moves with each target
+/// with probability 1/3, by up to 5 % of the diagonal, and every vertex there with it, as an
+/// exporter's copies of one vertex do (normals by up to 0.1, per vertex).
 fn with_random_targets(mut character: Character, seed: u64) -> Character {
     let mut rng = common::SplitMix(seed);
     let scale = 0.05 * clod_viewer::metrics::bounds_diagonal(&character.mesh.positions);
     let mut deltas = MorphDeltas::default();
-    for _ in 0..character.mesh.vertex_count() {
+    let mut moves: HashMap<[u32; 3], Vec<(u16, Vec3)>> = HashMap::new();
+    for v in 0..character.mesh.vertex_count() {
+        let key = character.mesh.positions[v].to_array().map(f32::to_bits);
+        let moved = moves
+            .entry(key)
+            .or_insert_with(|| {
+                let mut row = Vec::new();
+                for t in 0..3u16 {
+                    if rng.below(3) == 0 {
+                        row.push((t, Vec3::new(rng.signed(), rng.signed(), rng.signed()) * scale));
+                    }
+                }
+                row
+            })
+            .clone();
         let mut row = Vec::new();
-        for t in 0..3u16 {
-            if rng.below(3) == 0 {
-                let dp = Vec3::new(rng.signed(), rng.signed(), rng.signed()) * scale;
-                let dn = Vec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.1;
-                row.push((t, dp, dn));
-            }
+        for (t, dp) in moved {
+            row.push((t, dp, Vec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.1));
         }
         deltas.push_row(row);
     }

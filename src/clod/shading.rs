@@ -11,22 +11,29 @@
 //!   corner: a smooth mesh shares one vertex there), or when all its triangles' corners are such
 //!   vertices and one is flat (inside a subdivided facet); a lone vertex on a planar patch of a
 //!   smooth mesh stays smooth;
-//! - flat vertices that share position, uv, colour, skin and material are **welded** into their
-//!   lowest-index vertex (skin weights within [`SKIN_WELD_TOLERANCE`], since exporters that split
-//!   a vertex per face renormalise each copy's weights), whose normal the simplifier does not price (see
-//!   [`ShadingWeld::simplifier_normals`]). The simplifier collapses the welded mesh; uv, colour
-//!   and material borders stay constraints, and so do creases between smooth groups (non-flat
-//!   vertices are never welded: a crease that survives stays sharp);
+//! - flat vertices that share position, uv, colour, skin, morph position deltas and material are
+//!   **welded** into their lowest-index vertex (skin weights within [`SKIN_WELD_TOLERANCE`],
+//!   since exporters that split a vertex per face renormalise each copy's weights), whose normal
+//!   the simplifier does not price (see [`ShadingWeld::simplifier_normals`]). The simplifier
+//!   collapses the welded mesh; uv, colour and material borders stay constraints, and so do
+//!   creases between smooth groups (non-flat vertices with different normals are never welded:
+//!   a crease that survives stays sharp);
+//! - smooth vertices that are copies of each other, normal and morph normal deltas included, are
+//!   welded the same way but stay smooth: an exporter that writes every triangle corner as its
+//!   own vertex under an index buffer makes every edge a seam of identical sides, and CesiumMan
+//!   split so simplified to 3,728 of its 4,672 triangles and stopped (non-indexed primitives are
+//!   welded by the importer);
 //! - the renderer gives every corner of a flat vertex its triangle's face normal at each level
 //!   (both ends of a geomorph), so the faceted look survives simplification
 //!   ([`crate::render::lod_source`]).
 //!
 //! Normals are unit vectors in the mesh's (bind) space; welding compares the other attributes by
-//! their bits.
+//! their bits, skin weights within a tolerance.
 
 use glam::Vec3;
 
 use crate::mesh::SkinnedMesh;
+use crate::morph::MorphDeltas;
 
 /// A normal within 2° of its face's normal is that face's normal: exporters quantise normals
 /// (8-bit normalised components are off by up to about 0.5°) and face normals recomputed from f32
@@ -34,9 +41,10 @@ use crate::mesh::SkinnedMesh;
 /// by far more than 2° away from the faces around it.
 const FLAT_COS: f32 = 0.999_39;
 
-/// What flat vertices of one position must share exactly to be welded, as bits: uv, colour (zero
-/// when the mesh has none) and material. Their skins must agree within [`SKIN_WELD_TOLERANCE`].
-const WELD_KEY_LENGTH: usize = 7;
+/// What vertices of one position must share exactly to be welded, as bits: uv, colour (zero when
+/// the mesh has none), material, whether they are flat candidates, and for the others the
+/// normal. Their skins must agree within [`SKIN_WELD_TOLERANCE`], their morph deltas exactly.
+const WELD_KEY_LENGTH: usize = 11;
 type WeldKey = [u32; WELD_KEY_LENGTH];
 
 /// Two copies of a vertex skin alike when each joint's weight differs by at most this. Exporters
@@ -61,6 +69,19 @@ fn same_skin(a: ([u16; 4], [f32; 4]), b: ([u16; 4], [f32; 4])) -> bool {
         let d = (influence(a.0, a.1, joint) - influence(b.0, b.1, joint)).abs();
         d <= SKIN_WELD_TOLERANCE
     })
+}
+
+/// Whether vertices `a` and `b` have the same morph deltas: targets and position deltas, and the
+/// normal deltas too when `normals` (a flat vertex's normal follows from its positions).
+fn same_morph(morph: &MorphDeltas, a: usize, b: usize, normals: bool) -> bool {
+    let (mut da, mut db) = (morph.of(a), morph.of(b));
+    loop {
+        match (da.next(), db.next()) {
+            (None, None) => return true,
+            (Some((ta, pa, na)), Some((tb, pb, nb))) if ta == tb && pa == pb && (!normals || na == nb) => {}
+            _ => return false,
+        }
+    }
 }
 
 /// The unit normal of triangle `(a, b, c)` (counter-clockwise front), `None` when degenerate.
@@ -107,11 +128,12 @@ impl ShadingWeld {
             }
         }
         let candidate: Vec<bool> = (0..n).map(|v| matches[v] == Some(true) && !mixed[v]).collect();
-        // Group candidates by everything but the normal: sorted by position, then each run of
-        // one position (a handful of facet corners) by its full key, a group is a run of equal
-        // keys with its lowest vertex first. (A hash map of the keys took 8–15 % of the whole
-        // build on Fox, RiggedSimple and robot.glb, most of whose vertices are candidates; one
-        // sort of the full keys, 4–12 %.)
+        // Group the vertices used by triangles of one material: sorted by position, then each run
+        // of one position (a handful of facet corners or copies) by its key (flat candidates
+        // without their normal, the others with it), and within a run of equal keys each vertex
+        // joins the first earlier one it skins and morphs like. (A hash map of the keys took
+        // 8–15 % of the whole build on Fox, RiggedSimple and robot.glb, most of whose vertices
+        // are candidates; one sort of the full keys, 4–12 %.)
         let bits3 = |p: Vec3| p.to_array().map(|x| if x == 0.0 { 0 } else { x.to_bits() });
         let key = |v: usize| -> WeldKey {
             let mut key = [0; WELD_KEY_LENGTH];
@@ -122,12 +144,20 @@ impl ShadingWeld {
                 key[2..6].copy_from_slice(&colors[v].to_array().map(f32::to_bits));
             }
             key[6] = material[v].unwrap_or(0);
+            if !candidate[v] {
+                key[7] = 1;
+                key[8..11].copy_from_slice(&mesh.normals[v].to_array().map(f32::to_bits));
+            }
             key
         };
         let skin = |v: u32| (mesh.joints[v as usize], mesh.weights[v as usize]);
+        let alike = |a: u32, b: u32| {
+            let flat_candidate = candidate[a as usize];
+            same_skin(skin(a), skin(b)) && same_morph(&mesh.morph, a as usize, b as usize, !flat_candidate)
+        };
         // (x, y, z, vertex) packed in one integer, which sorts several times faster than a tuple.
         let mut by_position: Vec<u128> = (0..n)
-            .filter(|&v| candidate[v])
+            .filter(|&v| material[v].is_some() && !mixed[v])
             .map(|v| {
                 let [x, y, z] = bits3(mesh.positions[v]).map(u128::from);
                 (x << 96) | (y << 64) | (z << 32) | v as u128
@@ -138,8 +168,8 @@ impl ShadingWeld {
         let mut representative: Vec<u32> = (0..n as u32).collect();
         let mut by_key: Vec<(WeldKey, u32)> = Vec::new();
         for run in by_position.chunk_by(|a, b| a >> 32 == b >> 32) {
-            // A lone vertex is no evidence of facets (a smooth mesh's planar patch); two or more
-            // are facet corners (a smooth mesh would share one vertex).
+            // A lone candidate is no evidence of facets (a smooth mesh's planar patch); two or
+            // more are facet corners (a smooth mesh would share one vertex).
             if run.len() < 2 {
                 continue;
             }
@@ -147,18 +177,20 @@ impl ShadingWeld {
             by_key.extend(run.iter().map(|&packed| (key(packed as u32 as usize), packed as u32)));
             by_key.sort_unstable();
             for same_key in by_key.chunk_by(|a, b| a.0 == b.0).filter(|run| run.len() >= 2) {
-                // In vertex order, each corner joins the first earlier one whose skin it matches
-                // (its group's lowest vertex), else starts a group.
+                // A flat candidate with a copy that skins like it is a facet corner, whatever
+                // their morph targets do. In vertex order, each vertex joins the first earlier
+                // one it skins and morphs like (its group's lowest vertex), else starts a group:
+                // copies that morph apart stay apart, so level 0 morphs as the file does.
                 for (k, &(_, v)) in same_key.iter().enumerate() {
-                    let Some(&(_, first)) = same_key[..k]
-                        .iter()
-                        .find(|&&(_, w)| representative[w as usize] == w && same_skin(skin(w), skin(v)))
-                    else {
-                        continue;
-                    };
-                    flat[first as usize] = true;
-                    flat[v as usize] = true;
-                    representative[v as usize] = first;
+                    if candidate[v as usize] {
+                        let copy = same_key.iter().any(|&(_, w)| w != v && same_skin(skin(w), skin(v)));
+                        flat[v as usize] |= copy;
+                    }
+                    let first =
+                        same_key[..k].iter().find(|&&(_, w)| representative[w as usize] == w && alike(w, v));
+                    if let Some(&(_, first)) = first {
+                        representative[v as usize] = first;
+                    }
                 }
             }
         }
