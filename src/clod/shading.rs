@@ -74,7 +74,9 @@ fn same_skin(a: ([u16; 4], [f32; 4]), b: ([u16; 4], [f32; 4])) -> bool {
 /// Whether vertices `a` and `b` have the same morph deltas: targets and position deltas, and the
 /// normal deltas too when `normals` (a flat vertex's normal follows from its positions).
 fn same_morph(morph: &MorphDeltas, a: usize, b: usize, normals: bool) -> bool {
-    let (mut da, mut db) = (morph.of(a), morph.of(b));
+    // A flat vertex's entry that only bends its normal does not move it.
+    let moving = |&(_, dp, _): &(u16, Vec3, Vec3)| normals || dp != Vec3::ZERO;
+    let (mut da, mut db) = (morph.of(a).filter(moving), morph.of(b).filter(moving));
     loop {
         match (da.next(), db.next()) {
             (None, None) => return true,
