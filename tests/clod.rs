@@ -124,6 +124,17 @@ fn default_chain_holds_its_invariants_on_every_model() {
     }
 }
 
+/// Every level of `clod` skinned with `skin` (the simplification pose's) lies within 1e-5 of
+/// `diagonal` of its static positions in that pose: the back-propagation identity.
+fn assert_levels_skin_to_their_static_positions(name: &str, clod: &Clod, skin: &[glam::Mat4], diagonal: f32) {
+    for i in 0..clod.levels.len() {
+        let skinned = clod.level_skinned_positions(i, skin);
+        let fixed = clod.level_pose_positions(i);
+        let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
+        assert!(worst <= 1e-5 * diagonal, "{name} level {i}: skinned differs from static by {worst}");
+    }
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn skinning_each_level_at_the_simplification_pose_reproduces_its_static_positions() {
@@ -135,12 +146,7 @@ fn skinning_each_level_at_the_simplification_pose_reproduces_its_static_position
         check_chain(name, &clod);
         let skin = character.skin_matrices(&character.pose_at(clip, time));
         let diagonal = bounds_diagonal(&character.skinned_positions(&character.pose_at(clip, time)));
-        for i in 0..clod.levels.len() {
-            let skinned = clod.level_skinned_positions(i, &skin);
-            let fixed = clod.level_pose_positions(i);
-            let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
-            assert!(worst <= 1e-5 * diagonal, "{name} level {i}: skinned differs from static by {worst}");
-        }
+        assert_levels_skin_to_their_static_positions(name, &clod, &skin, diagonal);
         assert_eq!(clod.apm.singular_back_propagations, 0, "{name}");
     }
 }
@@ -178,12 +184,7 @@ fn both_weight_rules_skin_created_vertices_consistently() {
             WeightRule::Survivor => assert_eq!(differs, 0),
             WeightRule::Blend => assert!(differs > 0, "no created vertex blends its influences"),
         }
-        for i in 0..clod.levels.len() {
-            let skinned = clod.level_skinned_positions(i, &skin);
-            let fixed = clod.level_pose_positions(i);
-            let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
-            assert!(worst <= 1e-5 * diagonal, "{rule:?} level {i}: skinned differs from static by {worst}");
-        }
+        assert_levels_skin_to_their_static_positions(&format!("{rule:?}"), &clod, &skin, diagonal);
     }
 }
 

@@ -170,8 +170,8 @@ impl ShadingWeld {
         let mut representative: Vec<u32> = (0..n as u32).collect();
         let mut by_key: Vec<(WeldKey, u32)> = Vec::new();
         for run in by_position.chunk_by(|a, b| a >> 32 == b >> 32) {
-            // A lone candidate is no evidence of facets (a smooth mesh's planar patch); two or
-            // more are facet corners (a smooth mesh would share one vertex).
+            // A lone vertex has no copy to weld with, and a lone candidate is no evidence of
+            // facets (a smooth mesh's planar patch); two or more are facet corners or copies.
             if run.len() < 2 {
                 continue;
             }
