@@ -8,7 +8,7 @@
 //! progressive mesh), back-propagation, and chain (levels, Tipsify, ancestor tables).
 //! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order.
 //! `--counts` adds the collapse engine's counts of one build (`"counts": {...}`, see
-//! `simplify::PricingStats`): collapses and exact pricings.
+//! `simplify::PricingStats`): collapses, exact pricings, and edges queued under a bound.
 
 use std::time::Instant;
 
@@ -64,7 +64,11 @@ fn main() {
             .expect("build");
             let ms = started.elapsed().as_secs_f64() * 1000.0;
             let after = pricing_stats();
-            one_build.get_or_insert((after.collapses - before.collapses, after.pricings - before.pricings));
+            one_build.get_or_insert((
+                after.collapses - before.collapses,
+                after.pricings - before.pricings,
+                after.bounds - before.bounds,
+            ));
             if ms < best {
                 best = ms;
                 best_phases = marks.windows(2).map(|w| (w[1] - w[0]).as_secs_f64() * 1000.0).collect();
@@ -77,9 +81,9 @@ fn main() {
             .map(|(name, ms)| format!("\"{name}\": {ms:.2}"))
             .collect();
         let counts = match one_build {
-            Some((collapses, pricings)) if counts => {
-                format!(", \"counts\": {{\"collapses\": {collapses}, \"pricings\": {pricings}}}")
-            }
+            Some((collapses, pricings, bounds)) if counts => format!(
+                ", \"counts\": {{\"collapses\": {collapses}, \"pricings\": {pricings}, \"bounds\": {bounds}}}"
+            ),
             _ => String::new(),
         };
         println!(

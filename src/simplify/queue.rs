@@ -1,5 +1,6 @@
 //! The collapse queue: a 4-ary min-heap of candidates keyed by (cost, u, v), with lazy
-//! invalidation by version stamps.
+//! invalidation by version stamps. A candidate is either an exact collapse `u → v` or a *bound*:
+//! an edge not priced yet, keyed by a lower bound of its cost, priced when it reaches the top.
 //!
 //! Four children per node put a node's children in one 64-byte cache line (16-byte entries) and
 //! halve the depth of a binary heap; popping is what dominates a heap of hundreds of thousands of
@@ -12,13 +13,37 @@ pub(crate) struct Candidate {
     /// for non-negative floats), `u` in the low half: one compare orders by (cost, u).
     key: u64,
     pub v: u32,
-    /// Low 16 bits of both classes' versions when queued (see `Engine::stamp_of`).
-    pub stamp: u32,
+    /// Low bits of both classes' versions when queued (see `Engine::stamp_of`), and
+    /// [`BOUND_FLAG`] for a bound.
+    stamp: u32,
 }
 
+/// The stamp bit that marks a bound (versions keep the other 31 bits, see `Engine::stamp_of`).
+pub(crate) const BOUND_FLAG: u32 = 1 << 31;
+
 impl Candidate {
+    /// The collapse `u → v`, priced exactly at `cost`.
     pub fn new(cost: f32, u: u32, v: u32, stamp: u32) -> Candidate {
+        debug_assert_eq!(stamp & BOUND_FLAG, 0);
         Candidate { key: (u64::from(cost.to_bits()) << 32) | u64::from(u), v, stamp }
+    }
+
+    /// The edge `u`–`v` (`u < v`), not priced yet: every collapse along it costs at least
+    /// `bound`. Its order key is at most that of either direction's exact entry, so it reaches
+    /// the top before they would.
+    pub fn bound(bound: f32, u: u32, v: u32, stamp: u32) -> Candidate {
+        debug_assert!(u < v);
+        Candidate { stamp: stamp | BOUND_FLAG, ..Candidate::new(bound, u, v, stamp) }
+    }
+
+    /// Whether this is a bound rather than an exact collapse.
+    pub fn is_bound(&self) -> bool {
+        self.stamp & BOUND_FLAG != 0
+    }
+
+    /// The versions' stamp (without the bound flag).
+    pub fn stamp(&self) -> u32 {
+        self.stamp & !BOUND_FLAG
     }
 
     pub fn cost(&self) -> f32 {

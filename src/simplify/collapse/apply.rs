@@ -4,7 +4,7 @@
 //! of the pass in the batched one). Part of the collapse engine in `mod.rs`.
 
 use super::super::topology::{other_corners, Kind, NONE};
-use super::super::CollapseMode;
+use super::super::{CollapseMode, Schedule};
 use super::{Engine, Plan};
 use crate::progressive::{RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
@@ -163,6 +163,9 @@ impl Engine<'_> {
         let tu = self.total[ui];
         self.total[vi] += &tu;
         self.position[vi] = p;
+        if !self.relaxed.is_empty() {
+            self.relaxed[vi] = self.relaxed_quadric(vi);
+        }
         // The survivor of a junction inherits its line ends or meeting lines: it stays put from
         // now on and collapses only under the junction rules (a stale interior or line kind
         // would let it drag those lines freely).
@@ -231,8 +234,13 @@ impl Engine<'_> {
                 }
             }
         }
-        for &x in &neighbours {
-            self.requeue(v, x);
+        match self.schedule {
+            Schedule::Strict => self.queue_bounds(v, &neighbours),
+            Schedule::Passes => {
+                for &x in &neighbours {
+                    self.requeue(v, x);
+                }
+            }
         }
         self.neighbours = neighbours;
         self.second_neighbours = second;

@@ -30,7 +30,8 @@
 //! skipped, never made, and a limited run is the unlimited one's prefix up to the first such
 //! collapse):
 //! * `strict.rs` (the default): one collapse at a time from a heap (`queue.rs`), always the
-//!   cheapest;
+//!   cheapest; an edge is priced only when a lower bound of its cost reaches the top of the heap
+//!   (`plan.rs`), which leaves the order as it is and skips four pricings in five;
 //! * `passes.rs` (opt-in): batched passes in meshoptimizer's style — rank the priced
 //!   candidates, commit the cheap ones in cost order with both ends locked for the rest of the
 //!   pass, then re-price the edges the pass changed in bulk, in class order.
@@ -137,9 +138,10 @@ impl Progress {
     }
 }
 
-/// Low 16 bits of both versions.
+/// Low bits of both versions: 16 of `u`'s, 15 of `v`'s (the top bit marks a bound, see
+/// [`Candidate::bound`]).
 fn stamp(version_u: u32, version_v: u32) -> u32 {
-    (version_u & 0xFFFF) | (version_v << 16)
+    (version_u & 0xFFFF) | ((version_v & 0x7FFF) << 16)
 }
 
 struct Engine<'a> {
@@ -167,6 +169,11 @@ struct Engine<'a> {
     geometric: Vec<Quadric>,
     /// Geometric plus attribute quadric per class; its weight is the geometric weight.
     total: Vec<Quadric>,
+    /// Per class, [`Engine::relaxed_quadric`] (strict order only): the source of the bounds that
+    /// defer re-pricing.
+    relaxed: Vec<Quadric>,
+    /// Scratch of [`Engine::queue_bounds`].
+    bound_sums: Vec<(Quadric, u32)>,
     /// Per wedge: `[Σ area, then per priced channel Σ area·w·g (3), Σ area·w·d]`, stride
     /// `priced.stride()`.
     wedge_sums: Vec<f64>,
@@ -272,6 +279,8 @@ impl<'a> Engine<'a> {
             position,
             geometric,
             total,
+            relaxed: Vec::new(),
+            bound_sums: Vec::new(),
             wedge_sums,
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
@@ -344,12 +353,19 @@ impl<'a> Engine<'a> {
     }
 
     fn queue_all_edges(&mut self) {
+        if self.schedule == Schedule::Strict {
+            self.relaxed = (0..self.classes.count()).map(|c| self.relaxed_quadric(c)).collect();
+        }
         let mut neighbours = std::mem::take(&mut self.neighbours);
         for c in 0..self.classes.count() as u32 {
             self.neighbours_into(c, &mut neighbours);
-            for &x in &neighbours {
-                if c < x {
-                    self.queue_edge(c, x);
+            neighbours.retain(|&x| c < x);
+            match self.schedule {
+                Schedule::Strict => self.queue_bounds(c, &neighbours),
+                Schedule::Passes => {
+                    for &x in &neighbours {
+                        self.queue_edge(c, x, 0.0);
+                    }
                 }
             }
         }
@@ -379,24 +395,50 @@ impl<'a> Engine<'a> {
     }
 
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
-    /// per valid direction.
-    fn queue_edge(&mut self, a: u32, b: u32) {
+    /// per valid direction. `bound` is a lower bound of their costs that deferred this pricing
+    /// (0 if none), checked in debug builds.
+    fn queue_edge(&mut self, a: u32, b: u32, bound: f32) {
         if let Some(plan) = self.plan(a, b) {
+            debug_assert!(plan.cost as f32 >= bound, "{a}-{b}: cost {} below its bound {bound}", plan.cost);
             self.push(&plan);
             if plan.placement != Placement::Fixed {
                 return;
             }
         }
         if let Some(plan) = self.plan(b, a) {
+            debug_assert!(plan.cost as f32 >= bound, "{b}-{a}: cost {} below its bound {bound}", plan.cost);
             self.push(&plan);
         }
+    }
+
+    /// Defers pricing the edges from `v` to `others` in the strict order: queues each under a
+    /// lower bound of its cost, to be priced when that reaches the top of the queue (most
+    /// re-priced edges change again before then, see `pricing_stats`).
+    fn queue_bounds(&mut self, v: u32, others: &[u32]) {
+        // Two loops: the first only gathers the neighbours' quadrics and versions, independent
+        // loads that miss the caches together instead of one after another behind each bound's
+        // solve.
+        let mut sums = std::mem::take(&mut self.bound_sums);
+        sums.clear();
+        let relaxed_v = self.relaxed[v as usize];
+        for &x in others {
+            let mut sum = relaxed_v;
+            sum += &self.relaxed[x as usize];
+            sums.push((sum, self.stamp_of(v.min(x), v.max(x))));
+        }
+        for (&x, (sum, stamp)) in others.iter().zip(&sums) {
+            let bound = (sum.minimum_lower_bound() * self.inverse_mean_pair_area) as f32;
+            self.queue.push(Candidate::bound(bound, v.min(x), v.max(x), *stamp));
+        }
+        self.stats.bounds += others.len() as u64;
+        self.bound_sums = sums;
     }
 
     /// Prices edge `a`–`b` again after a collapse changed it: at once in the strict order, at
     /// the end of the pass otherwise (in bulk, sorted, so the pricings walk memory in order).
     fn requeue(&mut self, a: u32, b: u32) {
         match self.schedule {
-            Schedule::Strict => self.queue_edge(a, b),
+            Schedule::Strict => self.queue_edge(a, b, 0.0),
             Schedule::Passes => self.pending.push((a.min(b), a.max(b))),
         }
     }

@@ -68,7 +68,7 @@ impl Engine<'_> {
         let (alive, version) = (&self.alive, &self.version);
         self.candidates.retain(|c| {
             let (u, v) = (c.u() as usize, c.v as usize);
-            alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
+            alive[u] && alive[v] && c.stamp() == stamp(version[u], version[v])
         });
     }
 
@@ -120,7 +120,7 @@ impl Engine<'_> {
             }
             let (u, v) = (entry.u(), entry.v);
             // A class that took part in a collapse of this pass is locked: its version moved on.
-            if !self.alive[u as usize] || !self.alive[v as usize] || entry.stamp != self.stamp_of(u, v) {
+            if !self.alive[u as usize] || !self.alive[v as usize] || entry.stamp() != self.stamp_of(u, v) {
                 continue;
             }
             // Re-planning fills the pairing scratch `apply` uses; the cost is still exact (no end
@@ -150,7 +150,7 @@ impl Engine<'_> {
         pending.sort_unstable();
         pending.dedup();
         for &(a, b) in &pending {
-            self.queue_edge(a, b);
+            self.queue_edge(a, b, 0.0);
         }
         pending.clear();
         self.pending = pending;

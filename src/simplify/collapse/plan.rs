@@ -4,6 +4,13 @@
 //! the attributes reduced out at their optimum): the area-weighted error that orders collapses,
 //! and the mean squared error over the pair's area that the floor and the records use. Part of
 //! the collapse engine in `mod.rs`.
+//!
+//! Also a cheap lower bound of that cost for an edge whose pricing the strict order defers
+//! (`Engine::queue_bounds`): a class's *relaxed* quadric gives each of its wedges its own best
+//! attributes, so it lies pointwise below the part of any pricing it enters (merging wedges or
+//! fixing their attributes only adds error), and the minimum of two relaxed quadrics' sum bounds
+//! every collapse along their edge, whatever its pairing and placement. Collapses only ever add
+//! planes and wedge sums to a class, so a bound stays valid until the edge is priced.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -100,6 +107,27 @@ impl Engine<'_> {
         }
         self.stats.pricings += 1;
         self.price(u, v, ku, kv)
+    }
+
+    /// Class `c`'s relaxed quadric: its total quadric with each wedge's attributes reduced out
+    /// at that wedge's own optimum (see the module docs).
+    pub(super) fn relaxed_quadric(&self, c: usize) -> Quadric {
+        let mut relaxed = self.total[c];
+        let stride = self.priced.stride();
+        for &w in self.classes.wedges_of(c as u32) {
+            let sums = &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
+            if !(sums[0] > 0.0) {
+                continue;
+            }
+            let inverse_alpha = 1.0 / sums[0];
+            let mut optimum = Quadric::ZERO;
+            for (channel, &inverse_weight) in sums[1..].chunks_exact(4).zip(&self.inverse_weights) {
+                let g = DVec3::new(channel[0], channel[1], channel[2]);
+                optimum.add_optimal_attribute(g, channel[3], inverse_alpha * inverse_weight);
+            }
+            relaxed.subtract(&optimum);
+        }
+        relaxed
     }
 
     /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made.

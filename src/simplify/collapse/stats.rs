@@ -13,19 +13,28 @@ pub struct PricingStats {
     /// Exact f64 pricings of a collapse (initial, re-pricings, and the re-plan of every current
     /// entry before it is committed).
     pub pricings: u64,
+    /// Edges queued under a lower bound of their cost instead of priced (the strict order's
+    /// deferred re-pricing); those that reach the top are priced then and counted in `pricings`.
+    pub bounds: u64,
 }
 
 static COLLAPSES: AtomicU64 = AtomicU64::new(0);
 static PRICINGS: AtomicU64 = AtomicU64::new(0);
+static BOUNDS: AtomicU64 = AtomicU64::new(0);
 
 /// Adds one run's counts to the process-wide totals.
 pub(super) fn add(run: &PricingStats) {
     COLLAPSES.fetch_add(run.collapses, Ordering::Relaxed);
     PRICINGS.fetch_add(run.pricings, Ordering::Relaxed);
+    BOUNDS.fetch_add(run.bounds, Ordering::Relaxed);
 }
 
 /// The totals over every run of this process so far; the difference of two readings counts the
 /// runs between them.
 pub fn pricing_stats() -> PricingStats {
-    PricingStats { collapses: COLLAPSES.load(Ordering::Relaxed), pricings: PRICINGS.load(Ordering::Relaxed) }
+    PricingStats {
+        collapses: COLLAPSES.load(Ordering::Relaxed),
+        pricings: PRICINGS.load(Ordering::Relaxed),
+        bounds: BOUNDS.load(Ordering::Relaxed),
+    }
 }

@@ -1,6 +1,9 @@
 //! The strict order ([`super::super::Schedule::Strict`]): one collapse at a time, always the
-//! cheapest valid one, from a 4-ary heap with lazy invalidation (`queue.rs`). Every collapse
-//! re-prices the edges it changed at once. Part of the collapse engine in `mod.rs`.
+//! cheapest valid one, from a 4-ary heap with lazy invalidation (`queue.rs`). Edges wait in the
+//! heap under a lower bound of their cost (`Engine::queue_bounds`) and are priced when the bound
+//! reaches the top; since a bound never exceeds the exact key, the collapses come in exactly the
+//! order eager pricing gives, and most edges change again, and are bounded again, before they
+//! would have been due. Part of the collapse engine in `mod.rs`.
 
 use super::super::StopReason;
 use super::{stamp, Engine, Progress};
@@ -29,7 +32,7 @@ impl Engine<'_> {
                 let (alive, version) = (&self.alive, &self.version);
                 self.queue.purge(|c| {
                     let (u, v) = (c.u() as usize, c.v as usize);
-                    alive[u] && alive[v] && c.stamp == stamp(version[u], version[v])
+                    alive[u] && alive[v] && c.stamp() == stamp(version[u], version[v])
                 });
                 self.purged_length = self.queue.len();
             }
@@ -38,7 +41,12 @@ impl Engine<'_> {
             };
             let (u, v) = (entry.u(), entry.v);
             let (ui, vi) = (u as usize, v as usize);
-            if !self.alive[ui] || !self.alive[vi] || entry.stamp != self.stamp_of(u, v) {
+            if !self.alive[ui] || !self.alive[vi] || entry.stamp() != self.stamp_of(u, v) {
+                continue;
+            }
+            if entry.is_bound() {
+                // A deferred edge is due: price it; its exact entries take their place in order.
+                self.queue_edge(u, v, entry.cost());
                 continue;
             }
             // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
