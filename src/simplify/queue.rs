@@ -91,11 +91,6 @@ impl Queue {
         self.items[at] = candidate;
     }
 
-    /// The smallest candidate, left in the queue.
-    pub fn peek(&self) -> Option<&Candidate> {
-        self.items.first()
-    }
-
     /// Removes and returns the smallest candidate.
     pub fn pop(&mut self) -> Option<Candidate> {
         let last = self.items.pop()?;

@@ -364,7 +364,7 @@ impl<'a> Engine<'a> {
                 Schedule::Strict => self.queue_bounds(c, &neighbours),
                 Schedule::Passes => {
                     for &x in &neighbours {
-                        self.queue_edge(c, x);
+                        self.queue_edge(c, x, 0.0);
                     }
                 }
             }
@@ -373,15 +373,6 @@ impl<'a> Engine<'a> {
     }
 
     fn push(&mut self, plan: &Plan) {
-        let candidate = self.candidate(plan);
-        match self.schedule {
-            Schedule::Passes => self.candidates.push(candidate),
-            Schedule::Strict => self.queue.push(candidate),
-        }
-    }
-
-    /// The queue entry of a plan, in the direction the collapse will take.
-    fn candidate(&self, plan: &Plan) -> Candidate {
         let (u, v) = (plan.u, plan.v);
         let (u, v) = if matches!(plan.placement, Placement::Fixed) {
             (u, v)
@@ -396,19 +387,26 @@ impl<'a> Engine<'a> {
                 (u, v)
             }
         };
-        Candidate::new(plan.cost as f32, u, v, self.stamp_of(u, v))
+        let candidate = Candidate::new(plan.cost as f32, u, v, self.stamp_of(u, v));
+        match self.schedule {
+            Schedule::Passes => self.candidates.push(candidate),
+            Schedule::Strict => self.queue.push(candidate),
+        }
     }
 
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
-    /// per valid direction.
-    fn queue_edge(&mut self, a: u32, b: u32) {
+    /// per valid direction. `bound` is a lower bound of their costs that deferred this pricing
+    /// (0 if none), checked in debug builds.
+    fn queue_edge(&mut self, a: u32, b: u32, bound: f32) {
         if let Some(plan) = self.plan(a, b) {
+            debug_assert!(plan.cost as f32 >= bound, "{a}-{b}: cost {} below its bound {bound}", plan.cost);
             self.push(&plan);
             if plan.placement != Placement::Fixed {
                 return;
             }
         }
         if let Some(plan) = self.plan(b, a) {
+            debug_assert!(plan.cost as f32 >= bound, "{b}-{a}: cost {} below its bound {bound}", plan.cost);
             self.push(&plan);
         }
     }
@@ -440,7 +438,7 @@ impl<'a> Engine<'a> {
     /// the end of the pass otherwise (in bulk, sorted, so the pricings walk memory in order).
     fn requeue(&mut self, a: u32, b: u32) {
         match self.schedule {
-            Schedule::Strict => self.queue_edge(a, b),
+            Schedule::Strict => self.queue_edge(a, b, 0.0),
             Schedule::Passes => self.pending.push((a.min(b), a.max(b))),
         }
     }

@@ -150,7 +150,7 @@ impl Engine<'_> {
         pending.sort_unstable();
         pending.dedup();
         for &(a, b) in &pending {
-            self.queue_edge(a, b);
+            self.queue_edge(a, b, 0.0);
         }
         pending.clear();
         self.pending = pending;

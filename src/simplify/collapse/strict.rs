@@ -6,7 +6,7 @@
 //! would have been due. Part of the collapse engine in `mod.rs`.
 
 use super::super::StopReason;
-use super::{stamp, Candidate, Engine, Placement, Progress};
+use super::{stamp, Engine, Progress};
 
 impl Engine<'_> {
     /// Pops collapses in order until the target or the end of the queue, skipping those over the
@@ -36,22 +36,19 @@ impl Engine<'_> {
                 });
                 self.purged_length = self.queue.len();
             }
-            let Some(mut entry) = self.queue.pop() else {
+            let Some(entry) = self.queue.pop() else {
                 return self.exhausted();
             };
             let (u, v) = (entry.u(), entry.v);
-            if !self.alive[u as usize] || !self.alive[v as usize] || entry.stamp() != self.stamp_of(u, v) {
+            let (ui, vi) = (u as usize, v as usize);
+            if !self.alive[ui] || !self.alive[vi] || entry.stamp() != self.stamp_of(u, v) {
                 continue;
             }
             if entry.is_bound() {
-                // A deferred edge is due: price it. Its exact entries take their place in order,
-                // the cheaper at once when nothing queued comes before it.
-                match self.price_bound(u, v, entry.cost()) {
-                    Some(next) => entry = next,
-                    None => continue,
-                }
+                // A deferred edge is due: price it; its exact entries take their place in order.
+                self.queue_edge(u, v, entry.cost());
+                continue;
             }
-            let (u, v) = (entry.u(), entry.v);
             // The stamp keeps 16 bits of each version; a wrapped stamp is caught by the cost,
             // which a current entry reproduces exactly.
             let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
@@ -67,42 +64,6 @@ impl Engine<'_> {
                 continue;
             }
             self.apply(&plan);
-        }
-    }
-
-    /// Prices the edge `a`–`b` whose bound reached the top of the queue (`bound` is checked in
-    /// debug builds) and queues its valid collapses, one per direction unless the placement is
-    /// symmetric; returns the cheaper instead of queuing it when it would be popped next.
-    fn price_bound(&mut self, a: u32, b: u32, bound: f32) -> Option<Candidate> {
-        let mut found = [None; 2];
-        for (slot, (from, to)) in found.iter_mut().zip([(a, b), (b, a)]) {
-            let Some(plan) = self.plan(from, to) else {
-                continue;
-            };
-            debug_assert!(
-                plan.cost as f32 >= bound,
-                "{from}-{to}: cost {} below its bound {bound}",
-                plan.cost
-            );
-            *slot = Some(self.candidate(&plan));
-            if plan.placement != Placement::Fixed {
-                break;
-            }
-        }
-        let (first, second) = match found {
-            [Some(x), Some(y)] if y.order() < x.order() => (y, Some(x)),
-            [Some(x), y] | [y, Some(x)] => (x, y),
-            [None, None] => return None,
-        };
-        if let Some(second) = second {
-            self.queue.push(second);
-        }
-        match self.queue.peek() {
-            Some(top) if top.order() < first.order() => {
-                self.queue.push(first);
-                None
-            }
-            _ => Some(first),
         }
     }
 }
