@@ -5,6 +5,12 @@
 //! Four children per node put a node's children in one 64-byte cache line (16-byte entries) and
 //! halve the depth of a binary heap; popping is what dominates a heap of hundreds of thousands of
 //! mostly stale entries. [`Queue::purge`] drops stale entries in bulk when they pile up.
+//!
+//! Most entries are never popped: a collapse nearby makes them stale first. So only the near
+//! future is a heap: entries keyed above a *horizon* wait unordered in `later`, and when the heap
+//! runs dry the cheapest eighth of them (stale ones dropped) moves in and the horizon rises to the
+//! last of those. Every heap entry is at or below the horizon and every waiting one above it, so
+//! pops come in exactly the order one heap would give, from a heap a fraction of the size.
 
 /// A queued collapse of class `u` into class `v`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,15 +75,30 @@ const ARITY: usize = 4;
 
 #[derive(Default)]
 pub(crate) struct Queue {
+    /// The heap: every entry keyed at or below `horizon`.
     items: Vec<Candidate>,
+    /// Unordered: every entry keyed above `horizon`.
+    later: Vec<Candidate>,
+    horizon: u64,
 }
 
+/// Entries that move into the heap when it runs dry, at least (unless fewer wait) and as a
+/// fraction of those waiting: few enough to keep the heap small, many enough that the linear scans
+/// of `later` cost a few nanoseconds per pop.
+const MIN_MOVED: usize = 1024;
+const MOVED_FRACTION: usize = 8;
+
 impl Queue {
+    /// Entries in the heap (not counting those waiting beyond the horizon).
     pub fn len(&self) -> usize {
         self.items.len()
     }
 
     pub fn push(&mut self, candidate: Candidate) {
+        if candidate.key > self.horizon {
+            self.later.push(candidate);
+            return;
+        }
         self.items.push(candidate);
         let mut at = self.items.len() - 1;
         while at > 0 {
@@ -91,8 +112,38 @@ impl Queue {
         self.items[at] = candidate;
     }
 
-    /// Removes and returns the smallest candidate.
-    pub fn pop(&mut self) -> Option<Candidate> {
+    /// Removes and returns the smallest candidate; `keep` tells which of those waiting beyond the
+    /// horizon are still wanted when they move into the heap.
+    pub fn pop_kept(&mut self, keep: impl Fn(&Candidate) -> bool) -> Option<Candidate> {
+        if self.items.is_empty() {
+            self.advance(keep);
+        }
+        self.pop()
+    }
+
+    /// Moves the cheapest waiting entries into the (empty) heap and raises the horizon to them.
+    fn advance(&mut self, keep: impl Fn(&Candidate) -> bool) {
+        self.later.retain(|c| keep(c));
+        if self.later.is_empty() {
+            return;
+        }
+        let moved = (self.later.len() / MOVED_FRACTION).max(MIN_MOVED).min(self.later.len());
+        self.later.select_nth_unstable_by_key(moved - 1, |c| c.key);
+        self.horizon = self.later[moved - 1].key;
+        let (items, horizon) = (&mut self.items, self.horizon);
+        self.later.retain(|c| {
+            // Entries after the selected one may share its key: they move too.
+            let inside = c.key <= horizon;
+            if inside {
+                items.push(*c);
+            }
+            !inside
+        });
+        self.heapify();
+    }
+
+    /// Removes and returns the smallest candidate of the heap.
+    fn pop(&mut self) -> Option<Candidate> {
         let last = self.items.pop()?;
         if self.items.is_empty() {
             return Some(last);
@@ -127,7 +178,13 @@ impl Queue {
 
     /// Keeps only the candidates for which `keep` holds and restores the heap order.
     pub fn purge(&mut self, keep: impl Fn(&Candidate) -> bool) {
+        self.later.retain(|c| keep(c));
         self.items.retain(|c| keep(c));
+        self.heapify();
+    }
+
+    /// Restores the heap order of `items` from scratch.
+    fn heapify(&mut self) {
         if self.items.len() < 2 {
             return;
         }
@@ -153,7 +210,7 @@ mod tests {
         queue.purge(|c| c.v % 3 != 0);
         let mut last = (0.0f32, 0u32, 0u32);
         let mut count = 0;
-        while let Some(c) = queue.pop() {
+        while let Some(c) = queue.pop_kept(|_| true) {
             let now = (c.cost(), c.u(), c.v);
             assert!(now >= last, "{now:?} after {last:?}");
             assert!(c.v % 3 != 0);
@@ -161,5 +218,48 @@ mod tests {
             count += 1;
         }
         assert_eq!(count, (0..500).filter(|v| v % 3 != 0).count());
+    }
+
+    /// Pushes and pops interleaved, ties included, entries pushed below the horizon after it rose,
+    /// and stale entries (odd `v`) dropped when they move in: the kept pops come in exactly the
+    /// order of one sorted list of everything pushed so far.
+    #[test]
+    fn the_horizon_keeps_the_order_of_one_heap() {
+        let mut queue = Queue::default();
+        let mut reference: Vec<(u64, u32)> = Vec::new();
+        let mut state = 5u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            state >> 8
+        };
+        let keep = |c: &Candidate| c.v % 2 == 0;
+        let mut popped = 0;
+        for round in 0..40u32 {
+            for i in 0..400u32 {
+                let cost = (next() % 50) as f32 * 0.5 + round as f32 * 2.0 - 40.0;
+                let candidate = Candidate::new(cost.max(0.0), next() % 13, round * 400 + i, 0);
+                queue.push(candidate);
+                if keep(&candidate) {
+                    reference.push(candidate.order());
+                }
+            }
+            for _ in 0..300 {
+                let Some(c) = queue.pop_kept(keep) else { break };
+                if !keep(&c) {
+                    continue;
+                }
+                let smallest = reference.iter().enumerate().min_by_key(|(_, o)| **o).map(|(k, _)| k).unwrap();
+                assert_eq!(c.order(), reference.swap_remove(smallest), "pop {popped}");
+                popped += 1;
+            }
+        }
+        while let Some(c) = queue.pop_kept(keep) {
+            if keep(&c) {
+                let smallest = reference.iter().enumerate().min_by_key(|(_, o)| **o).map(|(k, _)| k).unwrap();
+                assert_eq!(c.order(), reference.swap_remove(smallest));
+            }
+        }
+        assert!(reference.is_empty());
+        assert!(popped > 5_000);
     }
 }

@@ -36,7 +36,11 @@ impl Engine<'_> {
                 });
                 self.purged_length = self.queue.len();
             }
-            let Some(entry) = self.queue.pop() else {
+            let (alive, version) = (&self.alive, &self.version);
+            let Some(entry) = self.queue.pop_kept(|c| {
+                let (u, v) = (c.u() as usize, c.v as usize);
+                alive[u] && alive[v] && c.stamp() == stamp(version[u], version[v])
+            }) else {
                 return self.exhausted();
             };
             let (u, v) = (entry.u(), entry.v);
