@@ -151,24 +151,36 @@ pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionC
     PositionClasses { class_of, wedge_start, wedges, representative }
 }
 
-/// For every class, a singly linked list of the corners (`3 × triangle + k`) at that class.
-/// Flat arrays: collapses splice lists together and unlink dead triangles without allocating.
+/// For every class, a linked list of the corners (`3 × triangle + k`) at that class. Flat
+/// arrays: collapses splice lists together and unlink dead triangles in constant time, without
+/// allocating or walking a list (each step of a walk is a cache miss).
 pub(crate) struct CornerLists {
     head: Vec<u32>,
+    /// The next corner of the list, NONE after the last.
     next: Vec<u32>,
+    /// The previous corner of the list; for the first, the last (so a list's tail is one read
+    /// away).
+    prev: Vec<u32>,
 }
 
 impl CornerLists {
     pub fn new(corner_class: impl Fn(usize) -> u32, corner_count: usize, class_count: usize) -> Self {
         let mut head = vec![NONE; class_count];
         let mut next = vec![NONE; corner_count];
+        let mut prev = vec![NONE; corner_count];
         // Pushing in reverse makes every list ascend by corner.
         for corner in (0..corner_count).rev() {
             let c = corner_class(corner) as usize;
-            next[corner] = head[c];
+            let first = head[c];
+            next[corner] = first;
+            // The new first corner's `prev` is the tail: the old first's tail, or itself.
+            prev[corner] = if first == NONE { corner as u32 } else { prev[first as usize] };
+            if first != NONE {
+                prev[first as usize] = corner as u32;
+            }
             head[c] = corner as u32;
         }
-        CornerLists { head, next }
+        CornerLists { head, next, prev }
     }
 
     /// The corners of `class`.
@@ -176,35 +188,40 @@ impl CornerLists {
         CornerIter { next: &self.next, at: self.head[class as usize] }
     }
 
-    /// Moves every corner of `from` into `into`'s list.
+    /// Moves every corner of `from` into `into`'s list, ahead of `into`'s own.
     pub fn splice(&mut self, from: u32, into: u32) {
         let first = self.head[from as usize];
         if first == NONE {
             return;
         }
-        let mut last = first;
-        while self.next[last as usize] != NONE {
-            last = self.next[last as usize];
+        let last = self.prev[first as usize];
+        let old_first = self.head[into as usize];
+        if old_first != NONE {
+            let tail = self.prev[old_first as usize];
+            self.next[last as usize] = old_first;
+            self.prev[old_first as usize] = last;
+            self.prev[first as usize] = tail;
         }
-        self.next[last as usize] = self.head[into as usize];
         self.head[into as usize] = first;
         self.head[from as usize] = NONE;
     }
 
-    /// Unlinks the corners of `class` for which `keep` is false.
-    pub fn retain(&mut self, class: u32, keep: impl Fn(u32) -> bool) {
-        let mut prev = NONE;
-        let mut at = self.head[class as usize];
-        while at != NONE {
-            let next = self.next[at as usize];
-            if keep(at) {
-                prev = at;
-            } else if prev == NONE {
-                self.head[class as usize] = next;
-            } else {
-                self.next[prev as usize] = next;
+    /// Removes `corner` from `class`'s list, which must hold it.
+    pub fn unlink(&mut self, class: u32, corner: u32) {
+        let (before, after) = (self.prev[corner as usize], self.next[corner as usize]);
+        let first = self.head[class as usize];
+        if corner == first {
+            self.head[class as usize] = after;
+            if after != NONE {
+                self.prev[after as usize] = before; // the tail
             }
-            at = next;
+            return;
+        }
+        self.next[before as usize] = after;
+        if after != NONE {
+            self.prev[after as usize] = before;
+        } else {
+            self.prev[first as usize] = before; // the new tail
         }
     }
 }
@@ -469,5 +486,49 @@ mod tests {
         // Seam runs 1 - 4 - 7: the centre slides along it, its ends are junctions.
         assert_eq!(kinds[4], Kind::Line);
         assert_eq!(kinds[1], Kind::Junction);
+    }
+
+    /// Splices and unlinks, first, last and middle corners and whole lists, against plain vectors:
+    /// the lists keep their order.
+    #[test]
+    fn corner_lists_splice_and_unlink_in_order() {
+        let class_of = [0u32, 1, 0, 2, 1, 0, 2, 2, 1, 0, 3, 3];
+        let mut lists = CornerLists::new(|k| class_of[k], class_of.len(), 4);
+        let mut reference: Vec<Vec<u32>> =
+            (0..4).map(|c| (0..12).filter(|&k| class_of[k as usize] == c).collect()).collect();
+        let check = |lists: &CornerLists, reference: &[Vec<u32>]| {
+            for (c, expected) in reference.iter().enumerate() {
+                assert_eq!(lists.iter(c as u32).collect::<Vec<_>>(), *expected, "class {c}");
+            }
+        };
+        check(&lists, &reference);
+        let unlink = |lists: &mut CornerLists, reference: &mut Vec<Vec<u32>>, c: u32, k: u32| {
+            lists.unlink(c, k);
+            reference[c as usize].retain(|&x| x != k);
+        };
+        unlink(&mut lists, &mut reference, 0, 0); // first
+        unlink(&mut lists, &mut reference, 1, 8); // last
+        check(&lists, &reference);
+        lists.splice(1, 0);
+        let moved = std::mem::take(&mut reference[1]);
+        reference[0].splice(0..0, moved);
+        check(&lists, &reference);
+        unlink(&mut lists, &mut reference, 0, 9); // the spliced list's last, then its new last
+        unlink(&mut lists, &mut reference, 0, 5);
+        unlink(&mut lists, &mut reference, 0, 4); // middle
+        check(&lists, &reference);
+        lists.splice(0, 2);
+        let moved = std::mem::take(&mut reference[0]);
+        reference[2].splice(0..0, moved);
+        lists.splice(3, 2);
+        let moved = std::mem::take(&mut reference[3]);
+        reference[2].splice(0..0, moved);
+        check(&lists, &reference);
+        for k in reference[2].clone() {
+            unlink(&mut lists, &mut reference, 2, k);
+            check(&lists, &reference);
+        }
+        lists.splice(2, 1); // an empty list moves nothing
+        check(&lists, &reference);
     }
 }

@@ -114,6 +114,7 @@ impl Engine<'_> {
         let u_range = self.class_wedges(u as usize);
         let v_range = self.class_wedges(v as usize);
         let mut thirds = [NONE; 2];
+        let mut dead_triangles = [NONE; 2];
         let mut dead = 0;
         for corner in self.lists.iter(u) {
             let ci = corner as usize;
@@ -128,6 +129,7 @@ impl Engine<'_> {
                 self.live_triangles -= 1;
                 if dead < 2 {
                     thirds[dead] = if a == v { b } else { a };
+                    dead_triangles[dead] = corner / 3;
                 }
                 dead += 1;
                 continue;
@@ -142,11 +144,14 @@ impl Engine<'_> {
                 to_vertex: self.vertex_id[wv as usize],
             });
         }
+        // A checked collapse has at most two triangles on its edge.
+        debug_assert!(dead <= 2);
         self.lists.splice(u, v);
-        let alive = &self.triangle_alive;
-        self.lists.retain(v, |c| alive[c as usize / 3]);
-        for x in thirds.into_iter().filter(|&x| x != NONE && x != u && x != v) {
-            self.lists.retain(x, |c| alive[c as usize / 3]);
+        for t in dead_triangles.into_iter().filter(|&t| t != NONE) {
+            for corner in 3 * t..3 * t + 3 {
+                let c = self.class_at(corner);
+                self.lists.unlink(if c == u { v } else { c }, corner);
+            }
         }
         thirds
     }
