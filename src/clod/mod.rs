@@ -197,22 +197,12 @@ pub fn build(
     // 1. The simplification pose P0 (flat-shaded vertices welded across their normal seams, see
     // `shading`), and for multi-pose the plane quadrics of every frame.
     let input = PoseInput::new(character, &options.pose)?;
-    let mut vertex_quadrics = match &options.pose {
+    let vertex_quadrics = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
-            multi_pose_quadrics(character, *frames_per_clip, input.vertex_matrices.as_deref())
+            multi_pose_quadrics(character, &input, *frames_per_clip)
         }
         _ => None,
     };
-    if let Some(quadrics) = &mut vertex_quadrics {
-        // A welded-away vertex is used by no triangle: its planes go to its representative.
-        for v in 0..quadrics.len() {
-            let r = input.weld.representative[v] as usize;
-            if r != v {
-                let q = std::mem::replace(&mut quadrics[v], Quadric::ZERO);
-                quadrics[r] += &q;
-            }
-        }
-    }
     progress(0.15);
 
     // 2. Simplify the static P0 mesh.
@@ -364,26 +354,33 @@ fn p0_skin_matrices(character: &Character, pose: &SimplificationPose) -> Result<
 
 /// Plane quadrics averaged over frames of every clip, in bind space (`P0` of multi-pose); `None`
 /// when the character has no clip, so the simplifier uses the bind pose's own planes.
+///
+/// They are measured on the triangles the simplifier sees, flat-shaded copies welded
+/// (`input.indices`): a welded-away copy has its representative's position and skin (within
+/// [`shading::SKIN_WELD_TOLERANCE`]), so posing it again would only repeat the work, four times
+/// over on a fully faceted mesh such as Fox.glb. Welded-away vertices get no planes.
 fn multi_pose_quadrics(
     character: &Character,
+    input: &PoseInput,
     frames_per_clip: usize,
-    p0_matrices: Option<&[Mat4]>,
 ) -> Option<Vec<Quadric>> {
     let frames = poses::multi_pose_frames(character, frames_per_clip);
     if frames.is_empty() {
         return None;
     }
     let mesh = &character.mesh;
+    let indices = &input.indices;
+    let p0_matrices = input.vertex_matrices.as_deref();
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
     // Triangles that only move rigidly with the bind pose add their bind plane once, not per frame.
     let rigid = match p0_matrices {
-        None => poses::rigid_triangles(&mesh.joints, &mesh.weights, &mesh.indices, &frames),
+        None => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames),
         Some(_) => Vec::new(),
     };
-    poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, &mesh.indices, &rigid);
+    poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, indices, &rigid);
     let weight = 1.0 / frames.len() as f64;
     let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
-    let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, &mesh.indices, p0_matrices, &rigid);
+    let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
     for skin in &frames {
         // Only the corners of the other triangles need their skin matrices.
         for &v in frame_quadrics.vertices() {
