@@ -298,11 +298,24 @@ fn border_stays_straight() {
             heights[(j * 13 + i) as usize]
         }
     });
+    // The rim's four sides: (axis held, its value).
+    let sides = [(0, 0.0), (0, 12.0), (1, 0.0), (1, 10.0)];
+    // How far `p` is from side `s` (a segment of the rectangle at z = 0).
+    let off_side = |p: Vec3, (axis, value): (usize, f32)| {
+        let (along, length) = if axis == 0 { (p.y, 10.0) } else { (p.x, 12.0) };
+        let across = if axis == 0 { p.x } else { p.y } - value;
+        let beyond = (-along).max(along - length).max(0.0);
+        (across * across + p.z * p.z + beyond * beyond).sqrt()
+    };
+    let is_corner = |p: Vec3| (p.x == 0.0 || p.x == 12.0) && (p.y == 0.0 || p.y == 10.0);
     for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
         let pm = mesh.simplify(&options(mode, 0));
         let k_end = pm.collapse_count();
-        let on_rim = |p: Vec3| p.z == 0.0 && (p.x == 0.0 || p.x == 12.0 || p.y == 0.0 || p.y == 10.0);
-        let is_corner = |p: Vec3| (p.x == 0.0 || p.x == 12.0) && (p.y == 0.0 || p.y == 10.0);
+        // Half-edge collapses keep input positions: border vertices stay on the rim exactly. With
+        // optimal placement two border vertices merge at their quadric's minimiser, which the
+        // border's penalty planes hold near the rim: off it by less than the bumps beside it
+        // (0.3) rise.
+        let tolerance = if mode == CollapseMode::HalfEdge { 0.0 } else { 0.3 };
         let mut fewest_with_corners = usize::MAX;
         for k in 0..=k_end {
             let tris = pm.indices_at(k);
@@ -314,7 +327,7 @@ fn border_stays_straight() {
                 }
             }
             // Until a rim corner is cut away (it costs a penalty, so it comes last), every border
-            // edge lies on one side of the rim and border vertices stay on the rim.
+            // edge follows one side of the rim.
             let corners = tris
                 .iter()
                 .filter(|&&v| is_corner(pm.positions[v as usize]))
@@ -327,21 +340,46 @@ fn border_stays_straight() {
             for ((a, b), count) in edges {
                 if count == 1 {
                     let (p, q) = (pm.positions[a as usize], pm.positions[b as usize]);
-                    assert!(
-                        on_rim(p) && on_rim(q),
-                        "{mode:?} level {k}: border vertex left the rim: {p} {q}"
-                    );
-                    let same_side = (p.x == 0.0 && q.x == 0.0)
-                        || (p.x == 12.0 && q.x == 12.0)
-                        || (p.y == 0.0 && q.y == 0.0)
-                        || (p.y == 10.0 && q.y == 10.0);
-                    assert!(same_side, "{mode:?} level {k}: border edge {p} {q}");
+                    let off =
+                        sides.iter().map(|&s| off_side(p, s).max(off_side(q, s))).fold(f32::MAX, f32::min);
+                    assert!(off <= tolerance, "{mode:?} level {k}: border edge {p} {q} is {off} off the rim");
                 }
             }
         }
         assert!(fewest_with_corners <= 40, "{mode:?}: corners cut early, at {fewest_with_corners} triangles");
         check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
     }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_bent_plate_keeps_its_bulge() {
+    // An open plate bent around the z axis: a 120° arc of radius 1, 8 facets around, 1 long. Its
+    // long borders are lines whose vertices merge into free points: a least-squares fit of an
+    // arc by fewer facets lies partly outside it, so merged border vertices leave the arc
+    // outward, where points of the chords through the input vertices (radius < 1) never go.
+    let mut positions = Vec::new();
+    for z in [0.0, 1.0] {
+        for i in 0..=8 {
+            let angle = (-60.0 + 15.0 * i as f32).to_radians();
+            positions.push(Vec3::new(angle.cos(), angle.sin(), z));
+        }
+    }
+    let mut indices = Vec::new();
+    for i in 0..8 {
+        let (a, b, c, d) = (i, i + 1, i + 10, i + 9);
+        indices.extend([a, b, c, a, c, d]);
+    }
+    let mesh = Mesh { positions, indices, ..Mesh::default() };
+    let pm = mesh.simplify(&options(CollapseMode::Full, 2));
+    let k_end = pm.collapse_count();
+    assert_eq!(pm.triangle_count_after(k_end), 2);
+    let radius = |v: u32| pm.positions[v as usize].truncate().length();
+    let outermost = (0..=k_end).flat_map(|k| pm.indices_at(k)).map(radius).fold(0.0, f32::max);
+    assert!(outermost > 1.001, "every vertex stayed on or inside the arc: {outermost}");
+    // Not far out: the arc's sagitta over its whole 120° is 0.5.
+    assert!(outermost < 1.5, "{outermost}");
+    check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

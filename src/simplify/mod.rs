@@ -60,7 +60,8 @@ pub struct SimplifyInput<'a> {
 pub enum CollapseMode {
     /// Optimal placement: the minimiser of the summed quadric (geometry and attributes), and new
     /// attributes from the attribute quadrics. Vertices on borders, seams and material borders
-    /// slide along them; a collapse onto a locked or line vertex keeps that vertex's position.
+    /// collapse only along them, held near them by penalty planes; a collapse onto a corner,
+    /// junction or locked vertex keeps that vertex's position.
     #[default]
     Full,
     /// The survivor keeps its position and attributes: every level uses a subset of the input

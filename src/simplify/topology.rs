@@ -10,7 +10,8 @@
 //! different wedges at one of its ends). Like meshoptimizer's vertex kinds, a class is
 //! - [`Kind::Interior`]: no constraint edge, its triangle fan is one closed disk;
 //! - [`Kind::Line`]: exactly two constraint edges, on one disk or half-disk: it lies on a border,
-//!   seam or material line and may only slide along it;
+//!   seam or material line and collapses only along it (two line vertices merge at their
+//!   quadric's minimiser, which the line's penalty planes hold near the line);
 //! - [`Kind::Corner`]: a line vertex where the line turns by more than 45°: it moves only along
 //!   its line too, but never to a point between two vertices (that would round the corner off);
 //! - [`Kind::Junction`]: a single disk or half-disk with one constraint edge (a line end) or
@@ -37,7 +38,7 @@ pub(crate) enum Kind {
 }
 
 impl Kind {
-    /// On a border, seam or material line (slides only along it).
+    /// On a border, seam or material line (collapses only along it).
     pub fn on_line(self) -> bool {
         matches!(self, Kind::Line | Kind::Corner)
     }
