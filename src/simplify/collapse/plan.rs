@@ -1,5 +1,5 @@
 //! Planning and pricing one collapse: the wedge pairing of its two classes (seams follow the
-//! edge), the placement (quadric minimiser, or the survivor's position)
+//! edge), the placement (quadric minimiser, best point of the edge, or the survivor's position)
 //! and its cost in f64 (Garland & Heckbert's quadric plus Hoppe's 1999 attribute quadrics, with
 //! the attributes reduced out at their optimum): the area-weighted error that orders collapses,
 //! and the mean squared error over the pair's area that the floor and the records use. Part of
@@ -89,7 +89,7 @@ impl Engine<'_> {
         }
         constraint |= edge_triangles == 1;
         if ku.on_line() && !constraint {
-            return None; // a line vertex only slides along its line
+            return None; // a line vertex collapses only along its line
         }
         // A junction may go along any edge: the pairing below admits it only when every wedge it
         // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
