@@ -10,10 +10,14 @@
 //! different wedges at one of its ends). Like meshoptimizer's vertex kinds, a class is
 //! - [`Kind::Interior`]: no constraint edge, its triangle fan is one closed disk;
 //! - [`Kind::Line`]: exactly two constraint edges, on one disk or half-disk: it lies on a border,
-//!   seam or material line and collapses only along it (two line vertices merge at their
-//!   quadric's minimiser, which the line's penalty planes hold near the line);
-//! - [`Kind::Corner`]: a line vertex where the line turns by more than 45°: it moves only along
-//!   its line too, but never to a point between two vertices (that would round the corner off);
+//!   seam or material line and collapses only along it (two vertices of a border or seam line
+//!   merge at their quadric's minimiser, which the line's penalty planes hold near the line; on
+//!   a material line, at the best point of their edge);
+//! - [`Kind::Corner`]: a line vertex where the line turns by more than 45°: it collapses only
+//!   along its line too; on a border or seam line it merges with its neighbour at their
+//!   quadric's minimiser, which the two lines' penalty planes hold near the corner, and on a
+//!   material line onto its neighbour, never to a point between two vertices (that would round
+//!   a colour outline's corner off);
 //! - [`Kind::Junction`]: a single disk or half-disk with one constraint edge (a line end) or
 //!   three or more (lines meeting): it may be removed only by a collapse that carries every wedge
 //!   it uses onto its own wedge of the survivor (a seam end moving to a neighbour, a junction

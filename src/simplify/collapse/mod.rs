@@ -66,8 +66,8 @@ use glam::DVec3;
 enum Placement {
     /// The survivor keeps its position.
     Fixed,
-    /// The best point of the edge: two vertices of one material line, so that a colour outline
-    /// stays where it is.
+    /// The best point of the edge: two line vertices of one material line, so that a colour
+    /// outline stays where it is.
     Segment,
     /// The quadric minimiser, or the best point of the edge when that is singular or far away.
     Free,
