@@ -159,7 +159,6 @@ fn face_plate(head: u16) -> RPrimitive {
             shape.facet(&[grid(i, j), grid(i + 1, j), grid(i + 1, j + 1), grid(i, j + 1)]);
         }
     }
-    let front = shape.positions.len();
     // A box behind the plate closes it: a back grid and four walls, all cut at the grid's
     // vertices so that the welded plate is watertight (no T-junctions).
     let back = |p: Vec3| Vec3::new(p.x, p.y, z - 0.02);
@@ -180,14 +179,14 @@ fn face_plate(head: u16) -> RPrimitive {
         rest.facet(&[p, back(p), back(q), q]);
     }
     shape.append(&rest);
+    // Every copy of a front-plane position moves with it: the walls' front edges too, so the
+    // plate stretches instead of tearing open, as a file exported from per-vertex shape keys has
+    // it (an exporter splits a vertex per facet after the keys are applied, so the copies share
+    // their position deltas; only their normal deltas differ).
     let mut morphs = Vec::new();
     for target in targets {
-        let moved: Vec<Vec3> = shape
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(v, &p)| if v < front { p + target(p) } else { p })
-            .collect();
+        let moved: Vec<Vec3> =
+            shape.positions.iter().map(|&p| if p.z == z { p + target(p) } else { p }).collect();
         let mut normal_deltas = vec![Vec3::ZERO; shape.positions.len()];
         for t in shape.indices.chunks_exact(3) {
             let [p, q, r] = [0, 1, 2].map(|k| moved[t[k] as usize]);
