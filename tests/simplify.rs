@@ -103,6 +103,43 @@ fn closed_cube_goes_through_a_tetrahedron_and_a_sheet_to_nothing() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_part_beside_another_vanishes_before_one_standing_alone() {
+    // Two equal unit tetrahedra and a cube of side 10: one tetrahedron 0.1 from the cube's
+    // face, the other 20 away from everything. A vanishing part costs its area times its
+    // clearance², so the one beside the cube goes first (its surface is then still within about
+    // its size of a surface), although the lone one comes first in the input, which breaks ties.
+    let place = |mesh: Mesh, scale: f32, offset: Vec3| Mesh {
+        positions: mesh.positions.iter().map(|&p| p * scale + offset).collect(),
+        ..mesh
+    };
+    let parts = [
+        place(tetrahedron(), 1.0, Vec3::new(30.0, 0.0, 0.0)),
+        place(tetrahedron(), 1.0, Vec3::new(10.1, 0.0, 0.0)),
+        place(cube(), 10.0, Vec3::ZERO),
+    ];
+    let mut mesh = Mesh::default();
+    for part in &parts {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(&part.positions);
+        mesh.indices.extend(part.indices.iter().map(|&i| i + base));
+    }
+    for schedule in [Schedule::Strict, Schedule::Passes] {
+        // Both tetrahedra become sheets, then one of them vanishes: 20 → 18 → 16 → 14.
+        let pm = mesh.simplify(&SimplifyOptions { schedule, ..options(CollapseMode::Full, 14) });
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 14, "{schedule:?}");
+        let xs: Vec<f32> = pm.indices_at(k).iter().map(|&v| pm.positions[v as usize].x).collect();
+        assert!(xs.iter().any(|&x| x >= 30.0), "{schedule:?}: the lone part vanished: {xs:?}");
+        assert!(
+            xs.iter().all(|&x| x >= 30.0 || x <= 10.0),
+            "{schedule:?}: the part beside the cube is left: {xs:?}"
+        );
+        check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), true);
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn single_triangle_is_left_alone() {
     let mesh =
         Mesh { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], indices: vec![0, 1, 2], ..Mesh::default() };

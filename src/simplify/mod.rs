@@ -11,7 +11,8 @@
 //!    constraint edges, and Hoppe's (1999) attribute quadrics per wedge;
 //! 4. `collapse` collapses position edges strictly cheapest first from a heap (or, as an option,
 //!    in batched passes of rising cost: [`Schedule`]), rejecting collapses that break the link
-//!    condition, tear seams, merge constraint lines, or fold triangles;
+//!    condition, tear seams, merge constraint lines, or fold triangles; a closed part may go away
+//!    whole, priced by its distance to the other parts (`clearance`);
 //! 5. [`crate::progressive`] turns the collapse log into a [`ProgressiveMesh`] (Hoppe 1996): a
 //!    collapse forest over vertex ids with a prefix order on triangles and vertex slots.
 //!
@@ -19,6 +20,7 @@
 //! reported distances are their square roots.
 
 mod channels;
+mod clearance;
 mod collapse;
 pub mod quadric;
 mod queue;

@@ -5,8 +5,10 @@
 //! One exception to "no duplicate triangles" lets a closed part go away whole, as
 //! meshoptimizer's parts do: a lone tetrahedron collapses to a two-sided sheet (two triangles on
 //! the same corners, facing opposite ways, so a culled material still shows it from both
-//! sides), and a lone sheet collapses to nothing. Both steps are priced like any other collapse:
-//! the merged quadric holds every plane of the part, so vanishing costs what the part spans.
+//! sides), and a lone sheet collapses to nothing. The first step is priced like any other
+//! collapse (the merged quadric holds every plane of the part); the second at least as the part's
+//! area times its squared clearance, its distance to the input's other parts (`plan.rs`,
+//! `clearance.rs`), since nothing of it is left where it was.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -54,6 +54,7 @@ mod strict;
 pub use stats::{pricing_stats, PricingStats};
 
 use super::channels::Channels;
+use super::clearance::Clearance;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
 use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
@@ -215,6 +216,8 @@ struct Engine<'a> {
     /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
     /// average area.
     inverse_mean_pair_area: f64,
+    /// How far the input's other parts are, for pricing a part that vanishes.
+    clearance: Clearance<'a>,
 }
 
 impl<'a> Engine<'a> {
@@ -263,6 +266,7 @@ impl<'a> Engine<'a> {
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
         Engine {
             over_floor: false,
+            clearance: Clearance::new(positions, indices, &classes.class_of, class_count),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
             zero_sums: vec![0.0; priced.stride()],
