@@ -15,11 +15,14 @@
 //! apart and always tested, so the grid's memory stays linear in the triangles. Positions are in
 //! the input's units; distances come back squared.
 
+use super::topology::PositionClasses;
 use crate::metrics::closest_point_on_triangle;
 use glam::{IVec3, UVec3, Vec3};
 use std::cell::{OnceCell, RefCell};
 use std::collections::HashMap;
 
+/// Cells per input triangle at most, over the grid's whole box.
+const CELLS_PER_TRIANGLE: f32 = 8.0;
 /// Cells along the grid's longest side at most: bounds its memory whatever the input's shape.
 const MAX_CELLS_PER_AXIS: u32 = 128;
 /// A triangle whose bounding box overlaps more cells than this is tested by every query instead:
@@ -27,15 +30,20 @@ const MAX_CELLS_PER_AXIS: u32 = 128;
 /// most this many entries per triangle.
 const MAX_CELLS_PER_TRIANGLE: u32 = 64;
 
-/// The input triangles and their parts, with the grid built on demand.
+/// The input triangles, with their parts and the grid found on the first query.
 pub(super) struct Clearance<'a> {
     positions: &'a [Vec3],
     indices: &'a [u32],
-    /// Per input vertex, the lowest class of its part.
-    vertex_part: Vec<u32>,
-    grid: OnceCell<Grid>,
+    index: OnceCell<Index>,
     /// The last answer per class: a sheet's three edges are priced with the same corners.
     answers: RefCell<HashMap<u32, (Vec3, Option<f32>)>>,
+}
+
+struct Index {
+    /// Per position class, the lowest class of its part. A collapse joins two classes of one
+    /// part, so a live class is in its input class's part.
+    class_part: Vec<u32>,
+    grid: Grid,
 }
 
 struct Grid {
@@ -49,7 +57,7 @@ struct Grid {
     entries: Vec<u32>,
     /// The triangles too large for the cells.
     large: Vec<u32>,
-    /// Per triangle, its part (that of its first corner).
+    /// Per triangle, its part.
     part: Vec<u32>,
     /// Per triangle, a bounding sphere (centre, radius): a cheap lower bound of its distance,
     /// which skips the exact test for most triangles once a near one is found.
@@ -57,40 +65,38 @@ struct Grid {
 }
 
 impl<'a> Clearance<'a> {
-    /// `class_of` maps each input vertex to its position class (`class_count` of them; NONE for
-    /// a vertex no triangle uses).
-    pub(super) fn new(
-        positions: &'a [Vec3],
-        indices: &'a [u32],
-        class_of: &[u32],
-        class_count: usize,
-    ) -> Self {
-        let class_part = parts(class_of, indices, class_count);
-        let vertex_part =
-            class_of.iter().map(|&c| class_part.get(c as usize).copied().unwrap_or(c)).collect();
-        Clearance { positions, indices, vertex_part, grid: OnceCell::new(), answers: RefCell::default() }
-    }
-
-    /// The part of input vertex `vertex`.
-    pub(super) fn part_of_vertex(&self, vertex: u32) -> u32 {
-        self.vertex_part[vertex as usize]
+    /// Holds the input; nothing is computed before the first query.
+    pub(super) fn new(positions: &'a [Vec3], indices: &'a [u32]) -> Self {
+        Clearance { positions, indices, index: OnceCell::new(), answers: RefCell::default() }
     }
 
     /// The squared distance from class `class`, at `q`, to the nearest input triangle of a part
-    /// other than `part` (the class's), or `None` when the input has no other part.
-    pub(super) fn squared_to_other_parts(&self, class: u32, q: Vec3, part: u32) -> Option<f32> {
+    /// other than the class's, or `None` when the input has no other part. `classes` are the
+    /// input's position classes (the same on every call).
+    pub(super) fn squared_to_other_parts(
+        &self,
+        classes: &PositionClasses,
+        class: u32,
+        q: Vec3,
+    ) -> Option<f32> {
         if let Some(&(at, answer)) = self.answers.borrow().get(&class) {
             if at == q {
                 return answer;
             }
         }
-        let answer = self.search(q, part);
+        let index = self.index.get_or_init(|| {
+            let class_part = parts(&classes.class_of, self.indices, classes.count());
+            let grid = Grid::new(self.positions, self.indices, |v| {
+                class_part[classes.class_of[v as usize] as usize]
+            });
+            Index { class_part, grid }
+        });
+        let answer = self.search(&index.grid, q, index.class_part[class as usize]);
         self.answers.borrow_mut().insert(class, (q, answer));
         answer
     }
 
-    fn search(&self, q: Vec3, part: u32) -> Option<f32> {
-        let grid = self.grid.get_or_init(|| Grid::new(self.positions, self.indices, &self.vertex_part));
+    fn search(&self, grid: &Grid, q: Vec3, part: u32) -> Option<f32> {
         let mut best = f32::INFINITY;
         let mut test = |t: u32| {
             let t = t as usize;
@@ -130,16 +136,30 @@ fn parts(class_of: &[u32], indices: &[u32], class_count: usize) -> Vec<u32> {
 }
 
 impl Grid {
-    fn new(positions: &[Vec3], indices: &[u32], vertex_part: &[u32]) -> Grid {
+    /// `part_of` gives an input vertex's part (every vertex a triangle uses has one).
+    fn new(positions: &[Vec3], indices: &[u32], part_of: impl Fn(u32) -> u32) -> Grid {
         let count = indices.len() / 3;
         let corners = |t: usize| [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
         let (min, max) = indices.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &v| {
             (lo.min(positions[v as usize]), hi.max(positions[v as usize]))
         });
         let size = (max - min).max(Vec3::ZERO);
-        // About one triangle a cell over the box's volume, at most MAX_CELLS_PER_AXIS a side.
+        // Cells the size of a typical triangle (the median of their boxes' longest sides), so a
+        // triangle overlaps a few cells and a cell holds a few triangles where the surface is;
+        // no more than CELLS_PER_TRIANGLE cells per triangle over the box (a surface fills
+        // little of its box), nor MAX_CELLS_PER_AXIS a side.
+        let mut sides: Vec<f32> = (0..count)
+            .map(|t| {
+                let [a, b, c] = corners(t);
+                (a.max(b).max(c) - a.min(b).min(c)).max_element()
+            })
+            .collect();
+        let median =
+            if sides.is_empty() { 0.0 } else { *sides.select_nth_unstable_by(count / 2, f32::total_cmp).1 };
         let volume = size.x.max(1e-30) * size.y.max(1e-30) * size.z.max(1e-30);
-        let cell = (volume / count.max(1) as f32).cbrt().max(size.max_element() / MAX_CELLS_PER_AXIS as f32);
+        let cell = median
+            .max((volume / (CELLS_PER_TRIANGLE * count.max(1) as f32)).cbrt())
+            .max(size.max_element() / MAX_CELLS_PER_AXIS as f32);
         let cell = if cell.is_finite() && cell > 0.0 { cell } else { 1.0 };
         let dims = ((size / cell).as_uvec3() + 1).min(UVec3::splat(MAX_CELLS_PER_AXIS));
         let cell_of = |p: Vec3| ((p - min) / cell).max(Vec3::ZERO).as_uvec3().min(dims - 1);
@@ -186,7 +206,7 @@ impl Grid {
                     start[k + 1] += start[k];
                 }
             } else {
-                let part = (0..count).map(|t| vertex_part[indices[3 * t] as usize]).collect();
+                let part = (0..count).map(|t| part_of(indices[3 * t])).collect();
                 let sphere = (0..count)
                     .map(|t| {
                         let corners = corners(t);
@@ -206,13 +226,28 @@ impl Grid {
     fn search(&self, q: Vec3, mut best: f32, test: &mut dyn FnMut(u32) -> f32) -> f32 {
         let dims = self.dims.as_ivec3();
         // A query outside the grid starts from the nearest cell. After shells 0..s, a triangle
-        // not yet seen lies outside the cube of cells within s − 1 of the start, which holds
-        // every point within (s − 1) cells of `q` (clamping moved the start towards `q`).
+        // not yet seen overlaps no cell of the cube within s − 1 of the start: it lies beyond
+        // one of the cube's faces that are not on the grid's boundary, at least as far from `q`
+        // as that face (`q` is inside the cube, or outside the grid beyond a boundary face).
         let at = ((q - self.origin) / self.cell).floor().as_ivec3().clamp(IVec3::ZERO, dims - 1);
         for shell in 0..=dims.max_element() {
-            let covered = (shell - 1).max(0) as f32 * self.cell;
-            if covered * covered >= best {
-                return best;
+            if shell > 0 {
+                let reach = shell - 1;
+                let mut covered = f32::INFINITY;
+                for axis in 0..3 {
+                    if at[axis] - reach > 0 {
+                        let face = self.origin[axis] + (at[axis] - reach) as f32 * self.cell;
+                        covered = covered.min(q[axis] - face);
+                    }
+                    if at[axis] + reach < dims[axis] - 1 {
+                        let face = self.origin[axis] + (at[axis] + reach + 1) as f32 * self.cell;
+                        covered = covered.min(face - q[axis]);
+                    }
+                }
+                let covered = covered.max(0.0);
+                if covered * covered >= best {
+                    return best;
+                }
             }
             let (lo, hi) = ((at - shell).max(IVec3::ZERO), (at + shell).min(dims - 1));
             for z in lo.z..=hi.z {
@@ -236,22 +271,25 @@ impl Grid {
 
 #[cfg(test)]
 mod tests {
+    use super::super::topology::{position_classes, NONE};
     use super::*;
     use crate::metrics::SplitMix64;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    /// The exact answer, by testing every triangle.
+    /// The exact answer, by testing every triangle whose part differs from `class`'s.
     fn brute_force(
         positions: &[Vec3],
         indices: &[u32],
-        vertex_part: &[u32],
+        classes: &PositionClasses,
+        class: u32,
         q: Vec3,
-        part: u32,
     ) -> Option<f32> {
+        let part = parts(&classes.class_of, indices, classes.count());
+        let part_of = |v: u32| part[classes.class_of[v as usize] as usize];
         let best = indices
             .chunks_exact(3)
-            .filter(|t| vertex_part[t[0] as usize] != part)
+            .filter(|t| part_of(t[0]) != part[class as usize])
             .map(|t| {
                 let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
                 closest_point_on_triangle(q, a, b, c).distance_squared(q)
@@ -262,50 +300,66 @@ mod tests {
 
     #[test]
     fn the_grid_finds_the_nearest_triangle_of_another_part() {
-        // Seeded random parts: small triangles in clusters, a few long slivers (which span many
-        // cells or go to the large list), queries inside, between and far outside the parts.
+        // Seeded random parts (fans around a centre): small triangles, a few long slivers (which
+        // span many cells or go to the large list), queries inside, between and far outside.
         let mut rng = SplitMix64(7);
+        let mut random = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let mut positions = Vec::new();
         let mut indices = Vec::new();
-        let mut class_of = Vec::new();
         for part in 0..12u32 {
-            let centre = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 10.0;
+            let centre = random() * 10.0;
+            let hub = positions.len() as u32;
+            positions.push(centre);
             for t in 0..(10 + part * 7) {
                 let size = if t % 17 == 0 { 8.0 } else { 0.5 };
                 let base = positions.len() as u32;
-                for _ in 0..3 {
-                    let jitter = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
-                    positions.push(centre + jitter * size);
-                    // One class per part: enough for the parts, which is all the grid reads.
-                    class_of.push(part);
-                }
-                indices.extend([base, base + 1, base + 2]);
+                positions.push(centre + (random() - 0.5) * size);
+                positions.push(centre + (random() - 0.5) * size);
+                indices.extend([hub, base, base + 1]);
             }
         }
-        let clearance = Clearance::new(&positions, &indices, &class_of, 12);
+        let classes = position_classes(&positions, &indices);
+        let clearance = Clearance::new(&positions, &indices);
         for k in 0..300 {
-            let q = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.25)
-                * if k % 10 == 0 { 40.0 } else { 12.0 };
-            let part = k % 12;
-            let expected = brute_force(&positions, &indices, &clearance.vertex_part, q, part);
-            assert_eq!(clearance.squared_to_other_parts(k, q, part), expected, "query {k} at {q}");
+            let q = (random() - 0.25) * if k % 10 == 0 { 40.0 } else { 12.0 };
+            let class = classes.class_of[indices[(k * 7) % indices.len()] as usize];
+            let expected = brute_force(&positions, &indices, &classes, class, q);
+            assert_eq!(clearance.squared_to_other_parts(&classes, class, q), expected, "query {k} at {q}");
+            // Asked again at the same point: the stored answer.
+            assert_eq!(clearance.squared_to_other_parts(&classes, class, q), expected);
         }
         // A mesh of one part has no other part.
-        let one = Clearance::new(&positions[..3], &indices[..3], &[0, 0, 0], 1);
-        assert_eq!(one.squared_to_other_parts(0, Vec3::ZERO, 0), None);
+        let one = Clearance::new(&positions[..3], &indices[..3]);
+        assert_eq!(
+            one.squared_to_other_parts(&position_classes(&positions[..3], &indices[..3]), 0, Vec3::ZERO),
+            None
+        );
     }
 
     #[test]
-    fn parts_are_the_components_over_classes() {
-        // Triangles 0 and 1 share class 1; triangle 2 (classes 5–7) stands alone; vertex 9 is
-        // used by no triangle (no class, no part).
-        let none = super::super::topology::NONE;
-        let class_of = [0, 1, 2, 1, 3, 4, 5, 6, 7, none];
-        let indices = [0, 1, 2, 3, 4, 5, 6, 7, 8];
-        assert_eq!(parts(&class_of, &indices, 8), [0, 0, 0, 0, 0, 5, 5, 5]);
-        let positions = vec![Vec3::ZERO; 10];
-        let clearance = Clearance::new(&positions, &indices, &class_of, 8);
-        assert_eq!(clearance.part_of_vertex(6), 5);
-        assert_eq!(clearance.part_of_vertex(9), none);
+    fn parts_are_the_components_over_position_classes() {
+        // Two triangles that share a position (vertices 2 and 3 are copies), one apart, and
+        // vertex 9, which no triangle uses.
+        let p = |x: f32, y: f32| Vec3::new(x, y, 0.0);
+        let positions = [
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(0.0, 1.0),
+            p(0.0, 1.0),
+            p(1.0, 1.0),
+            p(2.0, 2.0),
+            p(5.0, 0.0),
+            p(6.0, 0.0),
+            p(5.0, 1.0),
+            p(9.0, 9.0),
+        ];
+        let indices = [0, 3, 1, 2, 1, 4, 6, 7, 8];
+        let classes = position_classes(&positions, &indices);
+        assert_eq!(classes.class_of[9], NONE);
+        let part = parts(&classes.class_of, &indices, classes.count());
+        let of = |v: usize| part[classes.class_of[v] as usize];
+        assert_eq!([0, 1, 2, 3, 4].map(of), [of(0); 5]);
+        assert_eq!([6, 7, 8].map(of), [of(6); 3]);
+        assert_ne!(of(0), of(6));
     }
 }

@@ -193,6 +193,15 @@ impl CornerLists {
         CornerIter { next: &self.next, at: self.head[class as usize] }
     }
 
+    /// Whether `class` has exactly two corners, in constant time: the first's successor is the
+    /// tail.
+    pub fn has_two(&self, class: u32) -> bool {
+        let first = self.head[class as usize];
+        first != NONE
+            && self.next[first as usize] != NONE
+            && self.prev[first as usize] == self.next[first as usize]
+    }
+
     /// Moves every corner of `from` into `into`'s list, ahead of `into`'s own.
     pub fn splice(&mut self, from: u32, into: u32) {
         let first = self.head[from as usize];
@@ -504,6 +513,7 @@ mod tests {
         let check = |lists: &CornerLists, reference: &[Vec<u32>]| {
             for (c, expected) in reference.iter().enumerate() {
                 assert_eq!(lists.iter(c as u32).collect::<Vec<_>>(), *expected, "class {c}");
+                assert_eq!(lists.has_two(c as u32), expected.len() == 2, "class {c}");
             }
         };
         check(&lists, &reference);

@@ -266,7 +266,7 @@ impl<'a> Engine<'a> {
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
         Engine {
             over_floor: false,
-            clearance: Clearance::new(positions, indices, &classes.class_of, class_count),
+            clearance: Clearance::new(positions, indices),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
             zero_sums: vec![0.0; priced.stride()],

@@ -228,6 +228,10 @@ impl Engine<'_> {
     /// on the same three classes and nothing else around them), which the collapse of `u` into
     /// `v` makes vanish; `None` otherwise.
     fn lone_sheet_corner(&self, u: u32, v: u32) -> Option<u32> {
+        // Most pricings end here, without walking a list.
+        if !self.lists.has_two(u) || !self.lists.has_two(v) {
+            return None;
+        }
         let mut third = NONE;
         let mut count = 0;
         for corner in self.lists.iter(u) {
@@ -246,8 +250,7 @@ impl Engine<'_> {
             third = x;
             count += 1;
         }
-        let lone = |c: u32| self.lists.iter(c).take(3).count() == 2;
-        (count == 2 && lone(v) && lone(third)).then_some(third)
+        (count == 2 && self.lists.has_two(third)).then_some(third)
     }
 
     /// The area-weighted error of a part that vanishes when the sheet `u`, `v`, `x` collapses:
@@ -261,11 +264,12 @@ impl Engine<'_> {
     fn vanishing_error(&self, u: u32, v: u32, x: u32) -> f64 {
         let corners = [u, v, x].map(|c| self.position[c as usize]);
         let area: f64 = [u, v, x].iter().map(|&c| self.geometric[c as usize].weight).sum();
-        let part = self.clearance.part_of_vertex(self.classes.representative[u as usize]);
         let clearance: Option<f64> = [u, v, x]
             .iter()
             .zip(corners)
-            .map(|(&c, at)| self.clearance.squared_to_other_parts(c, at.as_vec3(), part).map(f64::from))
+            .map(|(&c, at)| {
+                self.clearance.squared_to_other_parts(&self.classes, c, at.as_vec3()).map(f64::from)
+            })
             .sum();
         let mean_squared = clearance.map(|sum| sum / 3.0).unwrap_or_else(|| {
             let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
