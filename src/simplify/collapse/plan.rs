@@ -213,7 +213,7 @@ impl Engine<'_> {
             error = error.max(self.vanishing_error(u, v, x));
         }
         let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
-        let (cost, mean_squared) = (error * self.inverse_mean_pair_area, error / weight);
+        let (cost, mean_squared) = (self.order_key(error, total.weight), error / weight);
         (cost.is_finite() && mean_squared.is_finite()).then_some(Plan {
             u,
             v,
