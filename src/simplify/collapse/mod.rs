@@ -93,9 +93,10 @@ struct Plan {
 }
 
 /// A pair smaller than this fraction of the mean pair area is ordered as if it had this
-/// fraction: its key is its mean squared error × `SMALL_PAIR`, as for a pair of that area. Ordering by the integral alone let a small part coarsen while its error
-/// was far larger than the rest's (a pair of a tenth of the mean area went at √10 × the distance
-/// of an average one): parts.glb's neck plates were 1.19 % of the diagonal off at its
+/// fraction: its key is its mean squared error × `SMALL_PAIR`, as for a pair of that area.
+/// Ordering by the integral alone let a small part coarsen while its error was far larger than
+/// the rest's (a pair of a tenth of the mean area went at √10 × the distance of an average one):
+/// parts.glb's neck plates were 1.19 % of the diagonal off at its
 /// 228-triangle level (animated Hausdorff; meshoptimizer 0.81 %). With 0.3 a small pair goes at
 /// most √(1/0.3) ≈ 1.8 × an average pair's distance, and that level is 0.54 % off. Measured
 /// (`animated_error --detail --pose multi`, `bench/animated-vs-meshoptimizer.mjs`): 0.1 changes
