@@ -149,9 +149,14 @@ function measureModel(name, bytes, { samples, frames, clips }) {
     clod.free();
     const meanRatio = levels.reduce((s, l) => s + l.ratio, 0) / levels.length;
     const worst = levels.reduce((w, l) => (l.ratio > w.ratio ? l : w));
+    // The third target: our animated Hausdorff distance is never above the better meshoptimizer's.
+    // Under the floor both are float32 noise and count as equal.
+    const hausdorffHigher = levels
+      .filter((l) => Math.max(l.ours.hausdorff, RATIO_FLOOR_PCT) > Math.max(l[l.better].hausdorff, RATIO_FLOOR_PCT))
+      .map((l) => ({ triangles: l.triangles.ours, ours: l.ours.hausdorff, better: l[l.better].hausdorff }));
     return {
       name, triangles: character.triangleCount, clips: clipNames, targets: counts, flags, attributes: input.what, merged, levels, meanRatio,
-      worst: { ratio: worst.ratio, triangles: worst.triangles.ours },
+      worst: { ratio: worst.ratio, triangles: worst.triangles.ours }, hausdorffHigher,
       welded: weldedRatios.length
         ? { meanRatio: weldedRatios.reduce((a, b) => a + b, 0) / weldedRatios.length, worstRatio: Math.max(...weldedRatios), levels: weldedRatios.length }
         : null,
@@ -165,6 +170,14 @@ function measureModel(name, bytes, { samples, frames, clips }) {
 export async function measure(settings = FULL) {
   await MeshoptSimplifier.ready;
   return models().map(([name, bytes]) => measureModel(name, bytes, settings));
+}
+
+/** The levels whose animated Hausdorff distance is over the better meshoptimizer's, in words. */
+export function hausdorffText(model) {
+  const f = (x) => x.toFixed(3);
+  return model.hausdorffHigher.length
+    ? model.hausdorffHigher.map((h) => `${h.triangles} (${f(h.ours)} vs ${f(h.better)} %)`).join(', ')
+    : 'none';
 }
 
 /** The per-model markdown table, and its summary lines. */
@@ -188,6 +201,7 @@ export function format(model) {
   if (model.merged) lines.push(`(${model.merged} of our levels below a count meshoptimizer could not go under: compared once, at that count)`);
   lines.push(`mean of ratios over levels: ${model.meanRatio.toFixed(2)} (target <= ${TARGET_MEAN_RATIO})`);
   lines.push(`worst level: ${model.worst.ratio.toFixed(2)} at ${model.worst.triangles} triangles (target <= ${TARGET_WORST_RATIO})`);
+  lines.push(`levels with a higher animated Hausdorff distance than the better meshoptimizer (target: none): ${hausdorffText(model)}`);
   if (model.welded) {
     lines.push(`against the position-welded simplify (not a target: it merges across uv and normal seams, so its ` +
       `textures tear): mean ${model.welded.meanRatio.toFixed(2)}, worst ${model.welded.worstRatio.toFixed(2)} over ${model.welded.levels} levels`);
@@ -200,7 +214,7 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   if (argv.includes('--help')) {
     console.log('node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]\n' +
       '  --short: 2 frames of 1 clip, 4,000 samples; --json: every number; --baseline: per model the mean and\n' +
-      '  worst-level ratio, as tests/js/animated.test.mjs reads them (bench/animated-baseline.json, from --short)');
+      '  worst-level ratio and the number of levels with a higher Hausdorff distance, as tests/js/animated.test.mjs reads them (bench/animated-baseline.json, from --short)');
     process.exit(0);
   }
   const settings = argv.includes('--short') ? SHORT : FULL;
@@ -210,9 +224,11 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   const results = await measure(settings);
   console.log(`settings: ${settings.frames} frames of ${settings.clips} clip(s), ${settings.samples} samples each way\n`);
   for (const model of results) console.log(`${format(model)}\n`);
-  console.log(`| model | ours / better meshopt, mean over levels | worst level |\n|---|---|---|`);
+  console.log(`| model | ours / better meshopt, mean over levels | worst level | levels with a higher Hausdorff distance |\n|---|---|---|---|`);
   for (const m of results) {
-    if (!m.skipped) console.log(`| ${m.name} | ${m.meanRatio.toFixed(2)} | ${m.worst.ratio.toFixed(2)} (${m.worst.triangles} tris) |`);
+    if (!m.skipped) {
+      console.log(`| ${m.name} | ${m.meanRatio.toFixed(2)} | ${m.worst.ratio.toFixed(2)} (${m.worst.triangles} tris) | ${hausdorffText(m)} |`);
+    }
   }
   console.log(`\nagainst the position-welded simplify (seams ignored, not a target):\n| model | mean over levels | worst level |\n|---|---|---|`);
   for (const m of results) {
@@ -221,7 +237,7 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   console.log(`\n${((performance.now() - started) / 1000).toFixed(1)} s`);
   if (baselineAt >= 0) {
     const models = Object.fromEntries(results.filter((m) => !m.skipped)
-      .map((m) => [m.name, { meanRatio: +m.meanRatio.toFixed(4), worstRatio: +m.worst.ratio.toFixed(4) }]));
+      .map((m) => [m.name, { meanRatio: +m.meanRatio.toFixed(4), worstRatio: +m.worst.ratio.toFixed(4), hausdorffHigher: m.hausdorffHigher.length }]));
     writeFileSync(argv[baselineAt + 1], JSON.stringify({ settings, models }, null, 1) + '\n');
   }
   if (jsonAt >= 0) writeFileSync(argv[jsonAt + 1], JSON.stringify({ settings, models: results }, null, 1) + '\n');

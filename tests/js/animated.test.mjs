@@ -32,6 +32,10 @@ test('animated error vs meshoptimizer (short form) stays within the baseline on 
     if (m.worst.ratio > limit.worstRatio + MARGIN) {
       failures.push(`${name}: worst level ${m.worst.ratio.toFixed(3)} at ${m.worst.triangles} triangles > baseline ${limit.worstRatio} + ${MARGIN}`);
     }
+    if (m.hausdorffHigher.length > (limit.hausdorffHigher ?? Infinity)) {
+      const levels = m.hausdorffHigher.map((h) => h.triangles).join(', ');
+      failures.push(`${name}: ${m.hausdorffHigher.length} levels (${levels}) with a higher Hausdorff distance than meshoptimizer's > baseline ${limit.hausdorffHigher}`);
+    }
     for (const level of m.levels) {
       assert.ok(Number.isFinite(level.ratio) && level.ratio > 0, `${name}: ratio ${level.ratio} at ${level.triangles.ours}`);
     }
