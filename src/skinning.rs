@@ -56,15 +56,30 @@ pub fn skin_normals(normals: &[Vec3], joints: &[[u16; 4]], weights: &[[f32; 4]],
         .collect()
 }
 
-/// The inverse transpose of `m`, or `None` when `m` is singular.
+/// Whether the 3×3 matrix `m` is far enough from singular to invert in f32: its determinant is
+/// at least 1e-12 of the cube of its longest column, so the test does not depend on units (for a
+/// matrix of unit scale it is the old absolute 1e-12; relative to the largest column, not to the
+/// product of all three, so that two columns that nearly cancel still count as singular).
+/// Measured against the determinant alone, a skin that holds a change of units counted as
+/// singular: gltfpack keeps positions on a 14-bit grid and scales them back in the inverse bind
+/// matrices, by about 1e-4 per axis for a character 1.5 m tall, a determinant of 1e-12; every
+/// vertex the LOD build moved then fell back to its survivor's bind position, and packed
+/// CesiumMan's levels were 1.2–1.5× as far from its surface as the original's.
+pub fn is_invertible(m: Mat3) -> bool {
+    let det = m.determinant();
+    let longest = m.x_axis.length().max(m.y_axis.length()).max(m.z_axis.length());
+    det.is_finite() && det != 0.0 && det.abs() >= 1e-12 * longest * longest * longest
+}
+
+/// The inverse transpose of `m`, or `None` when `m` is singular ([`is_invertible`]).
 ///
 /// Uses the cofactor matrix (`det(m) · m⁻ᵀ`) whose direction is what normals need; the sign of
 /// the determinant keeps normals pointing outwards under mirroring.
 fn normal_matrix(m: Mat3) -> Option<Mat3> {
-    let det = m.determinant();
-    if !det.is_finite() || det.abs() < 1e-12 {
+    if !is_invertible(m) {
         return None;
     }
+    let det = m.determinant();
     let cofactor =
         Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis));
     Some(cofactor * det.signum())
@@ -100,5 +115,20 @@ mod tests {
         let out = skin_normals(&[n], &[[0; 4]], &[[1.0, 0.0, 0.0, 0.0]], &skin);
         let tangent = Vec3::new(2.0, -1.0, 0.0); // (1,-1,0) scaled by the matrix
         assert!(out[0].dot(tangent).abs() < 1e-6);
+    }
+
+    #[test]
+    fn invertibility_does_not_depend_on_units() {
+        // gltfpack's grid for a 1.5 m character: 1.5 / 16,383 per axis, a determinant of 7.7e-13.
+        let rotation = Mat3::from_quat(Quat::from_rotation_y(0.7));
+        for scale in [1.0, 1e-2, 1.5 / 16_383.0, 1e4] {
+            assert!(is_invertible(rotation * scale), "scale {scale}");
+        }
+        // Opposite half-turns blended half and half: the x and z columns cancel.
+        let half_turn = Mat3::from_quat(Quat::from_rotation_y(std::f32::consts::PI));
+        assert!(!is_invertible((Mat3::IDENTITY + half_turn) * 0.5));
+        assert!(!is_invertible(Mat3::ZERO));
+        let flat = Mat3::from_cols(Vec3::X, Vec3::Y, Vec3::X + Vec3::Y);
+        assert!(!is_invertible(flat * 1e-4));
     }
 }

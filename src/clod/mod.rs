@@ -22,7 +22,7 @@ mod morph;
 pub mod poses;
 pub mod shading;
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::character::Character;
@@ -499,7 +499,7 @@ fn back_propagate(
                     // collapse, and survivors on pinned vertices): the survivor's bind position,
                     // exactly, instead of a rounded round trip through the inverse.
                     (apm.bind_positions[survivor], Mat4::transpose(&m).transform_vector3(p0_normal))
-                } else if m.determinant().abs() > 1e-12 {
+                } else if skinning::is_invertible(Mat3::from_mat4(m)) {
                     // Houle & Poulin's back-propagation: b = M0(v)⁻¹ x. Normals transform by the
                     // inverse transpose of M0⁻¹, which is M0ᵀ.
                     let normal = Mat4::transpose(&m).transform_vector3(p0_normal);

@@ -64,12 +64,10 @@ pub(crate) fn created_row(
             return deltas.of(v).collect();
         }
     }
-    // Below this the blended 3×3 part is numerically singular for f32 inverses (as in
+    // Where a blended 3×3 part is numerically singular for f32 inverses (as in
     // `clod::back_propagate`): keep the survivor's deltas.
-    const MIN_DETERMINANT: f32 = 1e-12;
-    let invertible = |m: Mat3| m.determinant().is_finite() && m.determinant().abs() >= MIN_DETERMINANT;
     let (ma, mb) = (linear(ja, wa), linear(jb, wb));
-    if !(invertible(mx) && invertible(ma) && invertible(mb)) {
+    if !(skinning::is_invertible(mx) && skinning::is_invertible(ma) && skinning::is_invertible(mb)) {
         return deltas.of(survivor).collect();
     }
     // Into P0: positions by M, normals by M⁻ᵀ; back: M_x⁻¹ and M_xᵀ.

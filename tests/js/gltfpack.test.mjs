@@ -58,10 +58,12 @@ for (const name of ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']) {
         api.surfaceDistance(c.levelSkinnedPositions(i, clip, time), l.indices, ...full[k], SAMPLES, 1).mean / diag);
       // Not the same mesh: gltfpack quantizes normals and uv and merges the vertices that then
       // agree (CesiumMan: 2,612 of the original's 3,273), so the pack has fewer seams and its
-      // levels differ. Measured at three frames of CesiumMan since border and seam vertices merge
-      // at free points (2026-11-25): the pack's levels are 1.18-1.51x the original's from 1,168
-      // to 146 triangles (1.06-1.34x before, when the original's levels were up to 23 % worse).
-      assert.ok(eb <= 1.6 * ea + 1e-5, `level ${i} (${lb.triangleCount} triangles): skinned error ${eb} vs the original's ${ea}`);
+      // levels differ. Measured at three frames (2026-11-26): the pack's levels are 0.73-0.97x
+      // the original's on CesiumMan, 0.99-1.00x on Fox and 0.86-0.93x on RiggedSimple. They were
+      // 1.18-1.51x on CesiumMan while its grid's scale (1e-4 per axis, a determinant of 1e-12)
+      // made every blended skin matrix look singular to the back-propagation
+      // (`skinning::is_invertible`).
+      assert.ok(eb <= 1.1 * ea + 1e-5, `level ${i} (${lb.triangleCount} triangles): skinned error ${eb} vs the original's ${ea}`);
     }
   });
 }
