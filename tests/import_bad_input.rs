@@ -89,6 +89,33 @@ fn unskinned_mesh_under_a_joint_is_bound_rigidly() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn unskinned_mesh_on_a_quantization_grid_is_bound_too() {
+    // gltfpack stores a rigid mesh's positions on an integer grid and scales them back on its
+    // node: here 2e-5 per axis (a 0.33 m prop on 16,383 steps), a determinant of 8e-15. The node
+    // is not singular; it used to be skipped as if it were.
+    let mut model = TinyModel::new();
+    model.json["nodes"][1]["children"] = Value::from(vec![3]);
+    let prop = r#"{"name": "prop", "mesh": 1, "translation": [2, 0, 0], "scale": [2e-5, 2e-5, 2e-5]}"#;
+    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(prop).unwrap());
+    let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
+    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
+    let c = import(&model).unwrap();
+    assert_eq!(c.warnings, Vec::<String>::new());
+    assert_eq!(c.mesh.primitives.len(), 2);
+    let corners: Vec<Vec3> = c.mesh.indices[..3].iter().map(|&i| c.mesh.positions[i as usize]).collect();
+    let expected = [Vec3::new(2.0, 1.0, 0.0), Vec3::new(2.00002, 1.0, 0.0), Vec3::new(2.0, 1.00002, 0.0)];
+    for (a, b) in corners.iter().zip(expected) {
+        assert!(a.distance(b) < 1e-6, "{a} vs {b}");
+    }
+    assert!(c.mesh.indices[..3].iter().all(|&i| c.mesh.normals[i as usize] == Vec3::Z));
+    let rest = c.skinned_positions(&c.skeleton.rest_pose());
+    for (a, b) in rest.iter().zip(&c.mesh.positions) {
+        assert!(a.distance(*b) < 1e-6, "{a} vs {b}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn strips_points_and_morph_targets() {
     let mut model = TinyModel::new();
     model.json["meshes"][0]["primitives"][0]["mode"] = Value::from(5); // TRIANGLE_STRIP

@@ -496,9 +496,9 @@ fn bind_rigid(
         .ok_or_else(|| prim_error(label, "belongs to a node outside the skeleton"))?;
     let m = model_from_node[slot];
     let det = m.determinant();
-    // Below this a 3×3 part is numerically singular for f32 inverses.
-    const MIN_DETERMINANT: f32 = 1e-12;
-    if !det.is_finite() || det.abs() < MIN_DETERMINANT {
+    // Singular relative to its own scale: gltfpack puts a quantized mesh's dequantization on its
+    // node, a scale of 1e-4 or less (a determinant of 1e-12 or less) that is no reason to skip it.
+    if !crate::skinning::is_invertible(Mat3::from_mat4(m)) {
         return Ok(None);
     }
     let joint = table.add(slot, m.inverse())?;

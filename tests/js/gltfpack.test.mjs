@@ -124,3 +124,53 @@ for (const name of ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']) {
     }
   });
 }
+
+/** A GLB of `json` with the binary chunk `bin` (already 4-byte aligned, as a GLB's is). */
+function glb(json, bin) {
+  let text = JSON.stringify(json);
+  while (text.length % 4) text += ' ';
+  const head = new TextEncoder().encode(text);
+  const out = new Uint8Array(20 + head.length + 8 + bin.length);
+  const view = new DataView(out.buffer);
+  view.setUint32(0, 0x46546c67, true); // 'glTF'
+  view.setUint32(4, 2, true);
+  view.setUint32(8, out.length, true);
+  view.setUint32(12, head.length, true);
+  view.setUint32(16, 0x4e4f534a, true); // 'JSON'
+  out.set(head, 20);
+  view.setUint32(20 + head.length, bin.length, true);
+  view.setUint32(24 + head.length, 0x004e4942, true); // 'BIN'
+  out.set(bin, 28 + head.length);
+  return out;
+}
+
+test('a small unskinned prop under a joint, packed by gltfpack, is not dropped', async (t) => {
+  const bytes = modelBytes('RiggedSimple.glb');
+  if (!bytes) return t.skip('model missing');
+  // RiggedSimple's mesh again, unskinned, under its second joint at a fiftieth of the size: gltfpack
+  // puts the prop's dequantization on its node, a scale of about 6e-6 per axis, whose determinant
+  // (2e-16) the importer used to take for a singular transform ("skipped").
+  const json = glbJson(bytes);
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const bin = bytes.subarray(28 + view.getUint32(12, true));
+  const skinned = json.meshes[0].primitives[0];
+  json.meshes.push({ name: 'prop', primitives: [{ attributes: { POSITION: skinned.attributes.POSITION }, indices: skinned.indices }] });
+  json.nodes.push({ name: 'prop', mesh: json.meshes.length - 1, translation: [3, 0, 0], scale: [0.02, 0.02, 0.02] });
+  const joint = json.nodes[json.skins[0].joints[1]];
+  joint.children = [...(joint.children ?? []), json.nodes.length - 1];
+  const withProp = glb(json, bin);
+  const packed = await gltfpack(withProp);
+  const [original, plain, quantized] = [bytes, withProp, packed].map((b) => api.Character.fromGlb(b));
+  try {
+    assert.deepEqual(quantized.warnings, []);
+    assert.equal(plain.triangleCount, 2 * original.triangleCount, 'the prop is there');
+    assert.equal(quantized.triangleCount, plain.triangleCount);
+    const clip = plain.clipNames[0];
+    const time = plain.clipDuration(clip) * 0.37;
+    const d = api.surfaceDistance(plain.skinnedPositions(clip, time), plain.indices(),
+      quantized.skinnedPositions(clip, time), quantized.indices(), SAMPLES, 1);
+    assert.ok(d.hausdorff < 1e-3 * api.boundsDiagonal(plain.bindPositions()), `packed surface ${d.hausdorff} away`);
+  } finally {
+    [original, plain, quantized].forEach((c) => c.free());
+  }
+});
