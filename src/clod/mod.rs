@@ -248,6 +248,9 @@ pub(crate) struct PoseInput {
     skin: Option<Vec<Mat4>>,
     /// Each input vertex's blended skin matrix at `P0` (`None` as `skin`).
     vertex_matrices: Option<Vec<Mat4>>,
+    /// The scale from bind space to `P0` where `P0` is the bind pose (1, or the change of units
+    /// the skin holds); `None` for a clip frame.
+    bind_scale: Option<f32>,
     pub(crate) positions: Vec<Vec3>,
     /// Normals are the simplifier's: zero for flat-shaded vertices ([`shading`]).
     pub(crate) attributes: Vec<f32>,
@@ -264,7 +267,13 @@ impl PoseInput {
     /// cannot take.
     pub(crate) fn new(character: &Character, pose: &SimplificationPose) -> Result<Self, ClodError> {
         let mesh = &character.mesh;
-        let (skin, vertex_matrices, positions, normals) = match p0_skin_matrices(character, pose)? {
+        let p0 = p0_skin_matrices(character, pose)?;
+        let bind_scale = match p0 {
+            P0::Bind => Some(1.0),
+            P0::Scaled(scale) => Some(scale),
+            P0::Posed(_) => None,
+        };
+        let (skin, vertex_matrices, positions, normals) = match p0 {
             P0::Bind => (None, None, mesh.positions.clone(), mesh.normals.clone()),
             P0::Scaled(scale) => {
                 // Every vertex scaled alike, not through its blended matrix: weights that sum to
@@ -291,6 +300,7 @@ impl PoseInput {
         Ok(PoseInput {
             skin,
             vertex_matrices,
+            bind_scale,
             positions,
             attributes,
             layout,
@@ -372,12 +382,12 @@ fn multi_pose_quadrics(
     let indices = &input.indices;
     let p0_matrices = input.vertex_matrices.as_deref();
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
-    // Triangles that only move rigidly with the bind pose add their bind plane once, not per frame.
-    let rigid = match p0_matrices {
-        None => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames),
-        Some(_) => Vec::new(),
+    // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per frame.
+    let rigid = match input.bind_scale {
+        Some(scale) => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames, scale),
+        None => Vec::new(),
     };
-    poses::add_rigid_quadrics(&mut quadrics, &mesh.positions, indices, &rigid);
+    poses::add_rigid_quadrics(&mut quadrics, &input.positions, indices, &rigid);
     let weight = 1.0 / frames.len() as f64;
     let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
     let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
