@@ -27,10 +27,10 @@
 //! the run: the run ends when every collapse left is over it, as it did before.
 //!
 //! Two orders ([`Schedule`]), both deterministic (every choice follows a total order on
-//! (cost, u, v) and thresholds derived from the mesh state alone, never from the target, so a run
-//! stopped at a target is a prefix of one that goes on; a collapse over the error limit is
-//! skipped, never made, and a limited run is the unlimited one's prefix up to the first such
-//! collapse):
+//! (cost, u, v), u scrambled (`queue.rs`), and thresholds derived from the mesh state alone,
+//! never from the target, so a run stopped at a target is a prefix of one that goes on; a
+//! collapse over the error limit is skipped, never made, and a limited run is the unlimited
+//! one's prefix up to the first such collapse):
 //! * `strict.rs` (the default): one collapse at a time from a heap (`queue.rs`), always the
 //!   cheapest; an edge is priced only when a lower bound of its cost reaches the top of the heap
 //!   (`plan.rs`), which leaves the order as it is and skips four pricings in five;
