@@ -51,18 +51,24 @@ fn tiny_model_imports_exactly() {
     assert_eq!(skinned, vec![Vec3::ZERO, Vec3::new(1.25, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)]);
 }
 
+/// The tiny model with a second mesh, its triangle again without a skin, on a node `prop` under
+/// `tip` with the node properties `transform` (glTF JSON members).
+fn with_prop(transform: &str) -> TinyModel {
+    let mut model = TinyModel::new();
+    model.json["nodes"][1]["children"] = Value::from(vec![3]);
+    let prop = format!(r#"{{"name": "prop", "mesh": 1, {transform}}}"#);
+    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(&prop).unwrap());
+    let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
+    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
+    model
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn unskinned_mesh_under_a_joint_is_bound_rigidly() {
     // The mesh moves under `tip` without skin: its vertices go to bind (model) space at rest, with
     // a joint of its own node, and skinning at rest puts them back.
-    let mut model = TinyModel::new();
-    model.json["nodes"][1]["children"] = Value::from(vec![3]);
-    let prop = r#"{"name": "prop", "mesh": 1, "translation": [2, 0, 0], "scale": [1, -1, 1]}"#;
-    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(prop).unwrap());
-    let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
-    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
-    let c = import(&model).unwrap();
+    let c = import(&with_prop(r#""translation": [2, 0, 0], "scale": [1, -1, 1]"#)).unwrap();
     assert_eq!(c.mesh.vertex_count(), 6);
     // Depth-first scene order: `prop` (under root/tip) comes before `tri`.
     assert_eq!(c.mesh.primitives.len(), 2);
@@ -93,13 +99,7 @@ fn unskinned_mesh_on_a_quantization_grid_is_bound_too() {
     // gltfpack stores a rigid mesh's positions on an integer grid and scales them back on its
     // node: here 2e-5 per axis (a 0.33 m prop on 16,383 steps), a determinant of 8e-15. The node
     // is not singular; it used to be skipped as if it were.
-    let mut model = TinyModel::new();
-    model.json["nodes"][1]["children"] = Value::from(vec![3]);
-    let prop = r#"{"name": "prop", "mesh": 1, "translation": [2, 0, 0], "scale": [2e-5, 2e-5, 2e-5]}"#;
-    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(prop).unwrap());
-    let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
-    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
-    let c = import(&model).unwrap();
+    let c = import(&with_prop(r#""translation": [2, 0, 0], "scale": [2e-5, 2e-5, 2e-5]"#)).unwrap();
     assert_eq!(c.warnings, Vec::<String>::new());
     assert_eq!(c.mesh.primitives.len(), 2);
     let corners: Vec<Vec3> = c.mesh.indices[..3].iter().map(|&i| c.mesh.positions[i as usize]).collect();
