@@ -84,8 +84,9 @@ impl Candidate {
 /// inside the 0.601–0.668 % of the shuffles (`bench/README.md`, 2026-11-26 morning). The shared
 /// models, which have no exact ties, build byte for byte as before.
 const TIE_SCRAMBLE: u32 = 0x9E37_79B1;
-/// The inverse of [`TIE_SCRAMBLE`] mod 2³² (Newton's iteration doubles the correct low bits of
-/// an odd number's inverse at every step: 1 → 32 bits in five).
+/// The inverse of [`TIE_SCRAMBLE`] mod 2³² by Newton's iteration: an odd number is its own
+/// inverse mod 8 (3 correct low bits), and every step doubles the correct bits (3 → 48 in four
+/// steps; the fifth changes nothing).
 const TIE_UNSCRAMBLE: u32 = {
     let mut x: u32 = TIE_SCRAMBLE;
     let mut step = 0;
