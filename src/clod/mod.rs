@@ -362,8 +362,9 @@ fn p0_skin_matrices(character: &Character, pose: &SimplificationPose) -> Result<
     }
 }
 
-/// Plane quadrics averaged over frames of every clip, in bind space (`P0` of multi-pose); `None`
-/// when the character has no clip, so the simplifier uses the bind pose's own planes.
+/// Plane quadrics averaged over frames of every clip, each frame with its morph weights, in bind
+/// space (`P0` of multi-pose); `None` when the character has no clip, so the simplifier uses the
+/// bind pose's own planes.
 ///
 /// They are measured on the triangles the simplifier sees, flat-shaded copies welded
 /// (`input.indices`): a welded-away copy has its representative's position and skin (within
@@ -383,21 +384,32 @@ fn multi_pose_quadrics(
     let p0_matrices = input.vertex_matrices.as_deref();
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
     // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per frame.
-    let rigid = match input.bind_scale {
+    let morph_weights = poses::multi_pose_morph_weights(character, frames_per_clip);
+    let morphing = poses::morphing_vertices(&mesh.morph, mesh.vertex_count(), &morph_weights);
+    let mut rigid = match input.bind_scale {
         Some(scale) => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames, scale),
         None => Vec::new(),
     };
+    for (rigid, tri) in rigid.iter_mut().zip(indices.chunks_exact(3)) {
+        *rigid &= !tri.iter().any(|&v| morphing[v as usize]);
+    }
     poses::add_rigid_quadrics(&mut quadrics, &input.positions, indices, &rigid);
     let weight = 1.0 / frames.len() as f64;
     let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
     let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
-    for skin in &frames {
+    let any_morph = morphing.contains(&true);
+    for (skin, morph_weights) in frames.iter().zip(&morph_weights) {
         // Only the corners of the other triangles need their skin matrices.
         for &v in frame_quadrics.vertices() {
             let v = v as usize;
             matrices[v] = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
         }
-        frame_quadrics.add(&matrices, weight);
+        if any_morph && morph_weights.iter().any(|&w| w != 0.0) {
+            let morphed = mesh.morph.morph_positions(&mesh.positions, morph_weights);
+            frame_quadrics.add_morphed(&matrices, &morphed, weight);
+        } else {
+            frame_quadrics.add(&matrices, weight);
+        }
     }
     frame_quadrics.finish(&mut quadrics);
     Some(quadrics)

@@ -18,11 +18,19 @@
 //! over frames and turns it into a [`Quadric`] once: `A = M`, `b = −M p0`, `c = p0ᵀ M p0`. That is
 //! the 4×4 pull-back `A_fᵀ K A_f` of the frame's plane sum `K` with less work per frame: no plane
 //! offsets, no `b` and `c`, and posed positions only for the corners that need them.
+//!
+//! Morph targets take part: a frame poses the bind positions with the clip's morph weights at
+//! that time applied first, as the viewer draws them. A morphed vertex moves by its own offset,
+//! which `x_f(v)` includes, so the pull-back is unchanged; what the morph changes is the frame's
+//! planes (a mouth that opens tilts the triangles around it), and those are what the frames vote
+//! with. A level's created vertex carries its children's deltas, blended (`clod::morph`), so it
+//! follows the morph as the pull-back assumes.
 
 use glam::{DMat3, DVec3, Mat3, Mat4, Vec3};
 
-use crate::animation::Wrap;
+use crate::animation::{Clip, Wrap};
 use crate::character::Character;
+use crate::morph::MorphDeltas;
 use crate::simplify::Quadric;
 use crate::skinning::blend_matrix;
 
@@ -98,20 +106,48 @@ pub fn bind_to_model_scale(character: &Character) -> Option<f32> {
 /// clips than that (a motion library) gives one frame to each of [`MAX_FRAMES`] clips spread
 /// evenly over its list.
 pub fn multi_pose_frames(character: &Character, frames_per_clip: usize) -> Vec<Vec<Mat4>> {
+    frame_times(character, frames_per_clip)
+        .map(|(clip, time)| {
+            let mut pose = character.skeleton.rest_pose();
+            clip.sample_into(time, Wrap::Clamp, &mut pose);
+            character.skeleton.pose_skin_matrices(&pose)
+        })
+        .collect()
+}
+
+/// The morph weights of the frames [`multi_pose_frames`] samples, in the same order: the clip's
+/// weights at that time over the default weights (one per morph target, empty without targets).
+pub fn multi_pose_morph_weights(character: &Character, frames_per_clip: usize) -> Vec<Vec<f32>> {
+    frame_times(character, frames_per_clip)
+        .map(|(clip, time)| {
+            let mut weights = character.default_morph_weights();
+            clip.sample_morph_weights(time, Wrap::Clamp, &mut weights);
+            weights
+        })
+        .collect()
+}
+
+/// The clips and times of the multi-pose frames (see [`multi_pose_frames`]).
+fn frame_times(character: &Character, frames_per_clip: usize) -> impl Iterator<Item = (&Clip, f32)> {
     let clips = character.clips.len().max(1);
     let per_clip = frames_per_clip.clamp(1, (MAX_FRAMES / clips).max(1));
     let sampled_clips = clips.min(MAX_FRAMES);
-    let mut frames = Vec::new();
     // `k · clips / sampled_clips` is every clip when there are at most MAX_FRAMES of them.
-    for clip in (0..sampled_clips).filter_map(|k| character.clips.get(k * clips / sampled_clips)) {
-        for f in 0..per_clip {
-            let time = clip.duration() * f as f32 / per_clip as f32;
-            let mut pose = character.skeleton.rest_pose();
-            clip.sample_into(time, Wrap::Clamp, &mut pose);
-            frames.push(character.skeleton.pose_skin_matrices(&pose));
-        }
-    }
-    frames
+    (0..sampled_clips).filter_map(move |k| character.clips.get(k * clips / sampled_clips)).flat_map(
+        move |clip| (0..per_clip).map(move |f| (clip, clip.duration() * f as f32 / per_clip as f32)),
+    )
+}
+
+/// Per vertex: whether some frame's `weights` move it, i.e. it has a non-zero delta for a target
+/// some frame weighs. Its triangles change shape between frames, so they are not rigid (see
+/// [`rigid_triangles`]) even when their joint is.
+pub fn morphing_vertices(morph: &MorphDeltas, vertex_count: usize, weights: &[Vec<f32>]) -> Vec<bool> {
+    let targets = weights.iter().map(Vec::len).max().unwrap_or(0);
+    let weighed: Vec<bool> =
+        (0..targets).map(|t| weights.iter().any(|w| w.get(t).is_some_and(|&x| x != 0.0))).collect();
+    (0..vertex_count)
+        .map(|v| morph.of(v).any(|(t, dp, _)| dp != Vec3::ZERO && weighed.get(t as usize) == Some(&true)))
+        .collect()
 }
 
 /// Largest deviation of `Lᵀ L` from the identity (`L`: the linear part of a skin matrix) for
@@ -282,9 +318,15 @@ impl<'a> FrameQuadrics<'a> {
 
     /// Adds one frame, `frame_matrices[v]` being `Mf(v)`, with weight `frame_weight`.
     pub fn add(&mut self, frame_matrices: &[Mat4], frame_weight: f64) {
+        self.add_morphed(frame_matrices, self.bind_positions, frame_weight);
+    }
+
+    /// Adds one frame whose bind positions are `morphed` (the bind positions with the frame's
+    /// morph weights applied, as many), posed by `frame_matrices`, with weight `frame_weight`.
+    pub fn add_morphed(&mut self, frame_matrices: &[Mat4], morphed: &[Vec3], frame_weight: f64) {
         for (posed, &v) in self.posed.iter_mut().zip(&self.vertices) {
             let v = v as usize;
-            *posed = frame_matrices[v].transform_point3(self.bind_positions[v]).as_dvec3();
+            *posed = frame_matrices[v].transform_point3(morphed[v]).as_dvec3();
         }
         for tri in &self.triangles {
             let [a, b, c] = tri.map(|i| self.posed[i as usize]);
@@ -631,5 +673,35 @@ mod tests {
             // The frames move the rigid triangle in f32: its area agrees to f32 rounding.
             assert!((a.weight - b.weight).abs() < 1e-6 * a.weight);
         }
+    }
+
+    #[test]
+    fn a_morphed_frame_votes_with_its_morphed_planes() {
+        // The frame's morph lifts corner 2 by 1 along z: the triangle (0,0,0), (1,0,0), (0,1,1)
+        // has normal (0, -1, 1)/√2 and area √2/2. Its skin is the identity.
+        let morphed = [TRIANGLE[0], TRIANGLE[1], Vec3::new(0.0, 1.0, 1.0)];
+        let mut frames = FrameQuadrics::new(&TRIANGLE, &[0, 1, 2], None, &[]);
+        frames.add_morphed(&[Mat4::IDENTITY; 3], &morphed, 1.0);
+        let mut q = vec![Quadric::ZERO; 3];
+        frames.finish(&mut q);
+        let area = 0.5 * 2f64.sqrt();
+        assert!((q[0].weight - area).abs() < 1e-7);
+        // Centred on the bind position: along the hinge (x) nothing, one unit up z half a unit².
+        assert!(q[0].error(DVec3::X).abs() < 1e-7);
+        assert!((q[0].error(DVec3::Z) - 0.5 * area).abs() < 1e-7);
+        // Unmorphed, the same point is a whole unit off the plane z = 0.
+        assert!((one_frame(Mat4::IDENTITY)[0].error(DVec3::Z) - 0.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn only_weighed_non_zero_deltas_morph_a_vertex() {
+        let mut morph = MorphDeltas::default();
+        morph.push_row([(0, Vec3::Z, Vec3::ZERO)]); // target 0, weighed in frame 1
+        morph.push_row([(1, Vec3::Z, Vec3::ZERO)]); // target 1, never weighed
+        morph.push_row([(0, Vec3::ZERO, Vec3::X)]); // a normal delta only
+        morph.push_row([]);
+        let weights = [vec![0.0, 0.0], vec![0.5, 0.0]];
+        assert_eq!(morphing_vertices(&morph, 5, &weights), [true, false, false, false, false]);
+        assert_eq!(morphing_vertices(&MorphDeltas::default(), 2, &weights), [false, false]);
     }
 }
