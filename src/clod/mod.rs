@@ -397,18 +397,22 @@ fn multi_pose_quadrics(
     let weight = 1.0 / frames.len() as f64;
     let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
     let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
-    let any_morph = morphing.contains(&true);
+    // The frame's morphed bind positions: only the morphing vertices change from frame to frame.
+    let morphing_vertices: Vec<usize> = (0..morphing.len()).filter(|&v| morphing[v]).collect();
+    let mut morphed = if morphing_vertices.is_empty() { Vec::new() } else { mesh.positions.clone() };
     for (skin, morph_weights) in frames.iter().zip(&morph_weights) {
         // Only the corners of the other triangles need their skin matrices.
         for &v in frame_quadrics.vertices() {
             let v = v as usize;
             matrices[v] = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
         }
-        if any_morph && morph_weights.iter().any(|&w| w != 0.0) {
-            let morphed = mesh.morph.morph_positions(&mesh.positions, morph_weights);
-            frame_quadrics.add_morphed(&matrices, &morphed, weight);
-        } else {
+        if morphing_vertices.is_empty() {
             frame_quadrics.add(&matrices, weight);
+        } else {
+            for &v in &morphing_vertices {
+                morphed[v] = mesh.positions[v] + mesh.morph.position_offset(v, morph_weights);
+            }
+            frame_quadrics.add_morphed(&matrices, &morphed, weight);
         }
     }
     frame_quadrics.finish(&mut quadrics);
