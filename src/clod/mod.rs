@@ -383,15 +383,16 @@ fn multi_pose_quadrics(
     let indices = &input.indices;
     let p0_matrices = input.vertex_matrices.as_deref();
     let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
-    // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per frame.
     let morph_weights = poses::multi_pose_morph_weights(character, frames_per_clip);
     let morphing = poses::morphing_vertices(&mesh.morph, mesh.vertex_count(), &morph_weights);
+    // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per
+    // frame; a triangle with a morphing corner changes shape from frame to frame, so it is not one.
     let mut rigid = match input.bind_scale {
         Some(scale) => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames, scale),
         None => Vec::new(),
     };
-    for (rigid, tri) in rigid.iter_mut().zip(indices.chunks_exact(3)) {
-        *rigid &= !tri.iter().any(|&v| morphing[v as usize]);
+    for (is_rigid, tri) in rigid.iter_mut().zip(indices.chunks_exact(3)) {
+        *is_rigid &= !tri.iter().any(|&v| morphing[v as usize]);
     }
     poses::add_rigid_quadrics(&mut quadrics, &input.positions, indices, &rigid);
     let weight = 1.0 / frames.len() as f64;
