@@ -119,10 +119,7 @@ impl Engine<'_> {
         for corner in self.lists.iter(u) {
             let ci = corner as usize;
             let (n, pc) = other_corners(corner);
-            let (a, b) = (
-                self.classes.class_of[self.corner_wedge[n as usize] as usize],
-                self.classes.class_of[self.corner_wedge[pc as usize] as usize],
-            );
+            let (a, b) = (self.class_at(n), self.class_at(pc));
             if a == v || b == v {
                 self.triangle_alive[ci / 3] = false;
                 self.log.triangle_death[ci / 3] = step;
@@ -138,6 +135,7 @@ impl Engine<'_> {
             let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
             let wv = self.classes.wedges[v_range.start + self.u_pair[iu] as usize];
             self.corner_wedge[ci] = wv;
+            self.corner_class[ci] = v;
             self.log.corner_changes.push(RawCornerChange {
                 corner,
                 from_vertex: self.vertex_id[wu as usize],

@@ -179,6 +179,9 @@ struct Engine<'a> {
     // Mesh state.
     lists: CornerLists,
     corner_wedge: Vec<u32>,
+    /// `classes.class_of[corner_wedge[corner]]`, kept beside it: the checks and plans ask for a
+    /// corner's class far more often than for its wedge, and one load is cheaper than two.
+    corner_class: Vec<u32>,
     triangle_alive: Vec<bool>,
     live_triangles: usize,
     position: Vec<DVec3>,
@@ -305,6 +308,7 @@ impl<'a> Engine<'a> {
             input_normal,
             lists,
             corner_wedge: indices.to_vec(),
+            corner_class: indices.iter().map(|&w| classes.class_of[w as usize]).collect(),
             triangle_alive: vec![true; triangle_count],
             live_triangles: triangle_count,
             position,
@@ -341,7 +345,7 @@ impl<'a> Engine<'a> {
 
     #[inline]
     fn class_at(&self, corner: u32) -> u32 {
-        self.classes.class_of[self.corner_wedge[corner as usize] as usize]
+        self.corner_class[corner as usize]
     }
 
     fn next_stamp(&mut self) -> u32 {
@@ -360,7 +364,7 @@ impl<'a> Engine<'a> {
         self.mark[c as usize] = stamp;
         for corner in self.lists.iter(c) {
             let (n, p) = other_corners(corner);
-            for x in [self.classes.class_of[self.corner_wedge[n as usize] as usize], self.class_at(p)] {
+            for x in [self.class_at(n), self.class_at(p)] {
                 if self.mark[x as usize] != stamp {
                     self.mark[x as usize] = stamp;
                     out.push(x);

@@ -60,10 +60,9 @@ impl Engine<'_> {
             let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
             self.u_seen[iu] = true;
             let (n, p) = other_corners(corner);
-            let class_of = |k: u32| self.classes.class_of[self.corner_wedge[k as usize] as usize];
-            let v_corner = if class_of(n) == v {
+            let v_corner = if self.class_at(n) == v {
                 n
-            } else if class_of(p) == v {
+            } else if self.class_at(p) == v {
                 p
             } else {
                 continue;
