@@ -59,20 +59,27 @@ impl Engine<'_> {
     /// Whether triangle `t` is acceptable after the corners at class `moving` go to `p`: not
     /// degenerate, within ~90° of its input normal, and not turned by 90° or more in this step.
     fn triangle_ok(&self, t: usize, moving: u32, p: DVec3) -> bool {
-        let old = [0, 1, 2].map(|k| self.position[self.class_at((3 * t + k) as u32) as usize]);
-        let new = [0, 1, 2].map(|k| if self.class_at((3 * t + k) as u32) == moving { p } else { old[k] });
+        let classes = [0, 1, 2].map(|k| self.class_at((3 * t + k) as u32));
+        let old = classes.map(|c| self.position[c as usize]);
+        let new = [0, 1, 2].map(|k| if classes[k] == moving { p } else { old[k] });
         let cross = (new[1] - new[0]).cross(new[2] - new[0]);
         let longest = (new[1] - new[0])
             .length_squared()
             .max((new[2] - new[0]).length_squared())
             .max((new[2] - new[1]).length_squared());
-        let length = cross.length();
-        if !(length > MIN_SIN_ANGLE * longest) {
+        // Squared on both sides, so no square root: |cross| > MIN_SIN_ANGLE · longest.
+        let length_squared = cross.length_squared();
+        let min_length = MIN_SIN_ANGLE * longest;
+        if !(length_squared > min_length * min_length) {
             return false;
         }
+        // cross · input > MIN_COS_TO_INPUT · |cross|, squared once it is known positive.
         let input = self.input_normal[t];
-        if input != DVec3::ZERO && cross.dot(input) <= MIN_COS_TO_INPUT * length {
-            return false;
+        if input != DVec3::ZERO {
+            let along = cross.dot(input);
+            if !(along > 0.0) || along * along <= MIN_COS_TO_INPUT * MIN_COS_TO_INPUT * length_squared {
+                return false;
+            }
         }
         let old_cross = (old[1] - old[0]).cross(old[2] - old[0]);
         old_cross == DVec3::ZERO || cross.dot(old_cross) > 0.0
