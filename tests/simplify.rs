@@ -291,6 +291,65 @@ fn seam_wedges_collapse_together() {
     }
 }
 
+/// A bumpy 6×6-quad grid split along its column x = 3 as [`seam_grid`] is, with four channels
+/// (normal xyz, u): the left side's vertices have `left` as normal, the right side's `right`, and
+/// the right side's u is offset by `u_offset`.
+fn split_grid(left: Vec3, right: Vec3, u_offset: f32) -> Mesh {
+    let mut mesh = grid(6, 6, |i, j| 0.4 * ((i as f32 * 1.3).sin() + (j as f32 * 0.9).cos()));
+    let base = mesh.positions.len() as u32;
+    let mut duplicate = vec![u32::MAX; base as usize];
+    for j in 0..7u32 {
+        let v = j * 7 + 3;
+        duplicate[v as usize] = base + j;
+        mesh.positions.push(mesh.positions[v as usize]);
+    }
+    for tri in mesh.indices.chunks_exact_mut(3) {
+        if tri.iter().any(|&v| v % 7 > 3) {
+            for v in tri.iter_mut().filter(|v| duplicate[**v as usize] != u32::MAX) {
+                *v = duplicate[*v as usize];
+            }
+        }
+    }
+    let right_side = |v: usize| v as u32 >= base || v % 7 > 3;
+    mesh.attributes = (0..mesh.positions.len())
+        .flat_map(|v| {
+            let (normal, u) = if right_side(v) { (right, u_offset) } else { (left, 0.0) };
+            let [x, y, z] = normal.normalize().to_array();
+            [x, y, z, mesh.positions[v].x / 6.0 + u]
+        })
+        .collect();
+    mesh.weights = vec![0.01, 0.01, 0.01, 1.0];
+    mesh
+}
+
+/// Whether some collapse moved a wedge that merged with nothing. On [`split_grid`] only the split
+/// column's vertices have two wedges, and along the column both pair up: so an interior vertex
+/// collapsed onto the column and the survivor went to a free point.
+fn wedge_moved_alone(pm: &clod_viewer::progressive::ProgressiveMesh) -> bool {
+    (pm.input_vertex_count..pm.vertex_total()).any(|x| {
+        let children: Vec<usize> = (0..pm.vertex_total()).filter(|&y| pm.parent[y] == x as u32).collect();
+        matches!(children[..], [y] if pm.positions[y] != pm.positions[x])
+    })
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_seam_moves_with_its_surface_and_a_crease_stays() {
+    let opts = SimplifyOptions { normal_channel: Some(0), ..SimplifyOptions::default() };
+    // One normal across the column, u split: a uv seam inside a smooth surface. Interior vertices
+    // that collapse onto it go to their quadric's minimiser, carrying the seam along.
+    let seam = split_grid(Vec3::Z, Vec3::Z, 1.0);
+    let pm = seam.simplify(&opts);
+    assert!(wedge_moved_alone(&pm), "no collapse onto the seam moved it");
+    check_invariants(&seam, &pm, &(0..=pm.collapse_count()).collect::<Vec<_>>(), false);
+    // The normal turns by 74° across the column, u continuous: a crease. A collapse onto it keeps
+    // the crease vertex where it is (its own line may still move along itself).
+    let crease = split_grid(Vec3::new(-0.6, 0.0, 0.8), Vec3::new(0.6, 0.0, 0.8), 0.0);
+    let pm = crease.simplify(&opts);
+    assert!(!wedge_moved_alone(&pm), "a collapse onto the crease moved it");
+    check_invariants(&crease, &pm, &(0..=pm.collapse_count()).collect::<Vec<_>>(), false);
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn material_border_stays_where_it_is() {

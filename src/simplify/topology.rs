@@ -7,7 +7,9 @@
 //!
 //! A position edge is a *constraint edge* when it is a mesh border (one triangle), a material
 //! border (two triangles with different materials) or an attribute seam (two triangles that use
-//! different wedges at one of its ends). Like meshoptimizer's vertex kinds, a class is
+//! different wedges at one of its ends); a seam whose wedges' normals differ is a *crease*. Open
+//! borders, material borders and creases are *outlines*: lines that show where they run. Like
+//! meshoptimizer's vertex kinds, a class is
 //! - [`Kind::Interior`]: no constraint edge, its triangle fan is one closed disk;
 //! - [`Kind::Line`]: exactly two constraint edges, on one disk or half-disk: it lies on a border,
 //!   seam or material line and collapses only along it (two vertices of a border or seam line
@@ -21,7 +23,8 @@
 //! - [`Kind::Junction`]: a single disk or half-disk with one constraint edge (a line end) or
 //!   three or more (lines meeting): it may be removed only by a collapse that carries every wedge
 //!   it uses onto its own wedge of the survivor (a seam end moving to a neighbour, a junction
-//!   sliding along one of its lines), and the survivor always keeps its position;
+//!   sliding along one of its lines), and the survivor keeps its position, unless an interior
+//!   vertex collapses onto a junction of seams alone (see `on_outline` in [`Classification`]);
 //! - [`Kind::Locked`]: anything else (non-manifold or inconsistently oriented edges, fans that
 //!   are not a single disk, triangles with two corners at one position): it is never removed,
 //!   though other vertices may collapse onto it.
@@ -64,8 +67,27 @@ pub(crate) enum Constraint {
     Border,
     /// Two triangles with different materials.
     Material,
-    /// Two triangles of one material that use different wedges at an end.
+    /// Two triangles of one material that use different wedges at an end, with the same normal
+    /// at both ends: a uv or colour seam inside one smooth (or faceted) surface.
     Seam,
+    /// A seam whose sides' normals differ at an end ([`creases`]): a hard edge of a
+    /// smooth-shaded mesh, or where a faceted region meets a smooth one.
+    Crease,
+}
+
+/// Two normals within 2° are one: exporters quantise normals (8-bit components are off by up to
+/// about 0.5°), while a hard edge turns the normal by far more. As `clod::shading`'s flat test.
+const CREASE_COS: f32 = 0.999_39;
+
+/// Whether two wedges' normals make their seam a crease: they differ by more than 2°, or one is
+/// zero (not priced: a faceted vertex, see `clod::shading`) and the other is not. Two zero
+/// normals (both faceted) are no crease: a faceted surface's shading follows its positions.
+pub(crate) fn creases(a: Vec3, b: Vec3) -> bool {
+    match (a.normalize_or_zero(), b.normalize_or_zero()) {
+        (Vec3::ZERO, Vec3::ZERO) => false,
+        (Vec3::ZERO, _) | (_, Vec3::ZERO) => true,
+        (a, b) => a.dot(b) < CREASE_COS,
+    }
 }
 
 /// One side of a constraint edge: the edge from corner `corner` to the next corner of its
@@ -265,17 +287,33 @@ pub(crate) fn other_corners(corner: u32) -> (u32, u32) {
     (base + (k + 1) % 3, base + (k + 2) % 3)
 }
 
-/// Kinds of all classes and the sides of all constraint edges (each undirected edge once).
+/// What [`classify`] finds: per class its kind and whether it lies on an outline, and the sides
+/// of every constraint edge.
+pub(crate) struct Classification {
+    pub kinds: Vec<Kind>,
+    /// Per class: it has an open border, a material border or a crease among its edges, a line
+    /// that shows where it runs. A class whose only lines are seams lies inside one smooth (or
+    /// faceted) surface: its seams split uv or colour, not the shape, and may move with it.
+    pub on_outline: Vec<bool>,
+    /// The sides of every constraint edge (each undirected edge once).
+    pub sides: Vec<ConstraintSide>,
+}
+
+/// Kinds of all classes, which lie on outlines, and the sides of all constraint edges;
+/// `creased(a, b)`: whether a seam between vertices `a` and `b` is a crease ([`creases`] of their
+/// normals).
 pub(crate) fn classify(
     classes: &PositionClasses,
     positions: &[Vec3],
     lists: &CornerLists,
     indices: &[u32],
     materials: &[u32],
-) -> (Vec<Kind>, Vec<ConstraintSide>) {
+    creased: impl Fn(u32, u32) -> bool,
+) -> Classification {
     let class_at = |corner: u32| classes.class_of[indices[corner as usize] as usize];
     let material = |corner: u32| materials.get(corner as usize / 3).copied().unwrap_or(0);
     let mut kinds = vec![Kind::Locked; classes.count()];
+    let mut on_outline = vec![false; classes.count()];
     let mut sides = Vec::new();
     // Per class scratch: (neighbour, 0 = edge leaves this class / 1 = edge enters it, corner of
     // this class), and the link edges (a → b) of the fan.
@@ -316,11 +354,12 @@ pub(crate) fn classify(
                     let (c0, c1) = (run[0].2, run[1].2);
                     let n0 = other_corners(c0).0;
                     let n1 = other_corners(c1).1;
+                    let ends = [(c0, c1), (n0, n1)].map(|(a, b)| (indices[a as usize], indices[b as usize]));
                     if material(c0) != material(c1) {
                         Some(Constraint::Material)
-                    } else if indices[c0 as usize] != indices[c1 as usize]
-                        || indices[n0 as usize] != indices[n1 as usize]
-                    {
+                    } else if ends.iter().any(|&(a, b)| a != b && creased(a, b)) {
+                        Some(Constraint::Crease)
+                    } else if ends.iter().any(|&(a, b)| a != b) {
                         Some(Constraint::Seam)
                     } else {
                         None
@@ -333,6 +372,7 @@ pub(crate) fn classify(
                 }
             };
             if let Some(constraint) = constraint {
+                on_outline[c as usize] |= constraint != Constraint::Seam;
                 if constraint_count < 2 {
                     line_neighbours[constraint_count] = neighbour;
                 }
@@ -366,7 +406,7 @@ pub(crate) fn classify(
             _ => Kind::Locked,
         };
     }
-    (kinds, sides)
+    Classification { kinds, on_outline, sides }
 }
 
 /// Whether the link edges (a → b) of a fan form one cycle or one path (a disk or half-disk).
@@ -403,7 +443,7 @@ mod tests {
         let classes = position_classes(positions, indices);
         let lists =
             CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), classes.count());
-        classify(&classes, positions, &lists, indices, materials).0
+        classify(&classes, positions, &lists, indices, materials, |_, _| false).kinds
     }
 
     /// A 3×3 vertex grid (4 quads, 8 triangles), centre vertex 4.
@@ -463,6 +503,44 @@ mod tests {
         assert_eq!(kinds[4], Kind::Junction);
         assert_eq!(kinds[1], Kind::Junction);
         assert_eq!(kinds[3], Kind::Line);
+    }
+
+    #[test]
+    fn a_seam_is_no_outline_unless_it_creases() {
+        let (mut p, mut i) = grid();
+        // Vertex 9 duplicates 1 for the quad right of the edge 1-4, as above.
+        p.push(p[1]);
+        for v in i[6..12].iter_mut().filter(|v| **v == 1) {
+            *v = 9;
+        }
+        let classes = position_classes(&p, &i);
+        let lists = CornerLists::new(|k| classes.class_of[i[k] as usize], i.len(), classes.count());
+        let outline = |creased: &dyn Fn(u32, u32) -> bool| {
+            let found = classify(&classes, &p, &lists, &i, &[], creased);
+            let crease_sides = found.sides.iter().filter(|s| s.constraint == Constraint::Crease).count();
+            (found.on_outline, crease_sides)
+        };
+        // A uv seam: the centre, where it ends, is on no outline; 1 is, by its border edges.
+        let (seam, creases) = outline(&|_, _| false);
+        assert_eq!(
+            (seam[classes.class_of[4] as usize], seam[classes.class_of[1] as usize], creases),
+            (false, true, 0)
+        );
+        // The same split as a crease: both sides of the edge 1-4 become crease sides.
+        let (crease, creases) = outline(&|a, b| (a, b) == (1, 9) || (a, b) == (9, 1));
+        assert_eq!((crease[classes.class_of[4] as usize], creases), (true, 2));
+    }
+
+    #[test]
+    fn creases_are_turns_over_two_degrees_or_a_faceted_side() {
+        let turned = |degrees: f32| Vec3::new(degrees.to_radians().sin(), 0.0, degrees.to_radians().cos());
+        assert!(!creases(Vec3::Z, turned(1.0)));
+        assert!(creases(Vec3::Z, turned(3.0)));
+        // Unnormalised normals are compared by direction.
+        assert!(!creases(2.0 * Vec3::Z, Vec3::Z));
+        // Zero stands for a faceted vertex's normal, which the simplifier does not price.
+        assert!(!creases(Vec3::ZERO, Vec3::ZERO));
+        assert!(creases(Vec3::ZERO, Vec3::Z));
     }
 
     #[test]

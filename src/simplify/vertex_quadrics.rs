@@ -85,7 +85,7 @@ pub(super) fn geometric_quadrics(
         let weight = match side.constraint {
             Constraint::Border => OPEN_BORDER_WEIGHT,
             Constraint::Material => MATERIAL_BORDER_WEIGHT / PLANES_PER_TWO_SIDED_EDGE,
-            Constraint::Seam => SEAM_WEIGHT / PLANES_PER_TWO_SIDED_EDGE,
+            Constraint::Seam | Constraint::Crease => SEAM_WEIGHT / PLANES_PER_TWO_SIDED_EDGE,
         } * edge.length_squared();
         let mut q = Quadric::from_plane(plane, -plane.dot(pa), weight);
         q.weight = 0.0;

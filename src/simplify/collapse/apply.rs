@@ -175,6 +175,7 @@ impl Engine<'_> {
         if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
             self.kind[vi] = Kind::Junction;
         }
+        self.on_outline[vi] |= self.on_outline[ui];
         self.alive[ui] = false;
         self.version[ui] = self.version[ui].wrapping_add(1);
         self.version[vi] = self.version[vi].wrapping_add(1);

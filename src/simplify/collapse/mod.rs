@@ -3,10 +3,12 @@
 //!
 //! A collapse `u → v` removes position class `u`; every wedge of `u` merges with the wedge of `v`
 //! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
-//! along it), so seams stay closed. Placement ([`Placement`]): interior–interior edges get the
-//! quadric minimiser, line–line edges (along a border, seam or material line) the best point of
-//! the edge, everything else (corners, locked vertices, and every half-edge collapse) keeps `v`'s
-//! position. Planning and f64 pricing are in `plan.rs`.
+//! along it), so seams stay closed. Placement ([`Placement`], `plan.rs`): the quadric minimiser
+//! for interior–interior edges, for edges along a border or seam line, and for an interior vertex
+//! onto a seam that is on no outline (a uv or colour seam inside a smooth surface, which moves
+//! with it); the best point of the edge along a material line; `v`'s position for everything
+//! else (onto a border, material line or crease, onto a locked vertex, and every half-edge
+//! collapse). Planning and f64 pricing are in `plan.rs`.
 //!
 //! Cost. A collapse's quadric error is an area-weighted sum of squared distances (Garland &
 //! Heckbert 1997: each face plane weighs its area), so it approximates the squared distance
@@ -59,11 +61,14 @@ use super::channels::Channels;
 use super::clearance::Clearance;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
-use super::topology::{classify, other_corners, position_classes, CornerLists, Kind, PositionClasses, NONE};
+use super::topology::{
+    classify, creases, other_corners, position_classes, Classification, CornerLists, Kind, PositionClasses,
+    NONE,
+};
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Placement {
@@ -175,6 +180,9 @@ struct Engine<'a> {
     // Static structure.
     classes: PositionClasses,
     kind: Vec<Kind>,
+    /// Per class: on an open border or material line (see [`Classification::on_outline`]); a
+    /// survivor inherits it.
+    on_outline: Vec<bool>,
     input_normal: Vec<DVec3>,
     // Mesh state.
     lists: CornerLists,
@@ -258,7 +266,13 @@ impl<'a> Engine<'a> {
         let classes = position_classes(positions, indices);
         let class_count = classes.count();
         let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
-        let (kind, sides) = classify(&classes, positions, &lists, indices, input.triangle_materials);
+        let normal = |vertex: u32| {
+            let at = vertex as usize * m + options.normal_channel.unwrap_or(0);
+            Vec3::from_slice(&input.attributes[at..at + 3])
+        };
+        let creased = |a: u32, b: u32| options.normal_channel.is_some() && creases(normal(a), normal(b));
+        let Classification { kinds: kind, on_outline, sides } =
+            classify(&classes, positions, &lists, indices, input.triangle_materials, creased);
         let position: Vec<DVec3> =
             classes.representative.iter().map(|&v| positions[v as usize].as_dvec3()).collect();
         let corner_point = |corner: usize| positions[indices[corner] as usize].as_dvec3();
@@ -305,6 +319,7 @@ impl<'a> Engine<'a> {
             channels: m,
             normal_channel: options.normal_channel,
             kind,
+            on_outline,
             input_normal,
             lists,
             corner_wedge: indices.to_vec(),
