@@ -56,6 +56,21 @@ impl SkinnedMesh {
         self.indices.len() / 3
     }
 
+    /// The material of every triangle, from the primitive ranges (`None`: glTF's default
+    /// material). A range that reaches past the index list is cut at its end.
+    pub fn triangle_materials(&self) -> Vec<Option<usize>> {
+        let triangles = self.triangle_count();
+        let mut out = vec![None; triangles];
+        for range in &self.primitives {
+            let first = (range.first_index / 3) as usize;
+            let end = (first + (range.index_count / 3) as usize).min(triangles);
+            for m in &mut out[first.min(end)..end] {
+                *m = range.material;
+            }
+        }
+        out
+    }
+
     /// Axis-aligned bounds of the bind positions as `(min, max)`; `(0, 0)` for an empty mesh.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         if self.positions.is_empty() {
@@ -99,5 +114,19 @@ mod tests {
     fn isolated_vertex_gets_a_unit_normal() {
         let normals = compute_normals(&[Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z], &[0, 0, 1]);
         assert!(normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-6));
+    }
+
+    #[test]
+    fn primitive_ranges_become_triangle_materials() {
+        let mesh = SkinnedMesh {
+            indices: vec![0; 9],
+            primitives: vec![
+                PrimitiveRange { first_index: 0, index_count: 6, material: Some(0) },
+                PrimitiveRange { first_index: 6, index_count: 6, material: Some(2) },
+            ],
+            ..SkinnedMesh::default()
+        };
+        // The second range reaches one triangle past the indices: it is cut there.
+        assert_eq!(mesh.triangle_materials(), [Some(0), Some(0), Some(2)]);
     }
 }

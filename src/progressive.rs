@@ -16,11 +16,25 @@
 //! [`PmCursor`] moves between levels by applying or undoing only the recorded corner changes of
 //! each step.
 
-use crate::simplify::StopReason;
 use glam::Vec3;
 use std::cmp::Reverse;
 
-const NONE: u32 = u32::MAX;
+/// "No vertex, slot or step" in the u32 index arrays of a progressive mesh and of the code that
+/// builds and encodes one.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Why simplification ended (recorded in the progressive mesh it built; re-exported by
+/// `simplify`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// `target_triangles` was reached.
+    TargetReached,
+    /// Every collapse left would cost more than `max_error`.
+    MaxErrorReached,
+    /// No valid collapse is left (everything remaining is locked or would fold); the mesh may
+    /// still have more triangles than asked for.
+    NoValidCollapse,
+}
 
 /// One corner change of the raw log: input corner `corner` switched vertices.
 #[derive(Clone, Copy, Debug)]

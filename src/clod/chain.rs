@@ -11,7 +11,7 @@
 use crate::progressive::ProgressiveMesh;
 use crate::vertex_cache::{first_use_order, optimize_triangle_order};
 
-const NONE: u32 = u32::MAX;
+use crate::progressive::NONE;
 
 /// One discrete level.
 #[derive(Clone, Debug, PartialEq)]

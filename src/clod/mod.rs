@@ -27,8 +27,8 @@ use thiserror::Error;
 
 use crate::character::Character;
 use crate::morph::MorphDeltas;
-use crate::progressive::ProgressiveMesh;
-use crate::simplify::{self, CollapseMode, Quadric, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
+use crate::progressive::{ProgressiveMesh, NONE};
+use crate::simplify::{self, CollapseMode, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
 use crate::skinning;
 pub use chain::LodLevel;
 pub use poses::SimplificationPose;
@@ -199,7 +199,15 @@ pub fn build(
     let input = PoseInput::new(character, &options.pose)?;
     let vertex_quadrics = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
-            multi_pose_quadrics(character, &input, *frames_per_clip)
+            let p0_matrices = input.vertex_matrices.as_deref();
+            poses::multi_pose_quadrics(
+                character,
+                &input.indices,
+                &input.positions,
+                p0_matrices,
+                input.bind_scale,
+                *frames_per_clip,
+            )
         }
         _ => None,
     };
@@ -362,64 +370,6 @@ fn p0_skin_matrices(character: &Character, pose: &SimplificationPose) -> Result<
     }
 }
 
-/// Plane quadrics averaged over frames of every clip, each frame with its morph weights, in bind
-/// space (`P0` of multi-pose); `None` when the character has no clip, so the simplifier uses the
-/// bind pose's own planes.
-///
-/// They are measured on the triangles the simplifier sees, flat-shaded copies welded
-/// (`input.indices`): a welded-away copy has its representative's position and skin (within
-/// [`shading::SKIN_WELD_TOLERANCE`]), so posing it again would only repeat the work, four times
-/// over on a fully faceted mesh such as Fox.glb. Welded-away vertices get no planes.
-fn multi_pose_quadrics(
-    character: &Character,
-    input: &PoseInput,
-    frames_per_clip: usize,
-) -> Option<Vec<Quadric>> {
-    let frames = poses::multi_pose_frames(character, frames_per_clip);
-    if frames.is_empty() {
-        return None;
-    }
-    let mesh = &character.mesh;
-    let indices = &input.indices;
-    let p0_matrices = input.vertex_matrices.as_deref();
-    let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
-    let morph_weights = poses::multi_pose_morph_weights(character, frames_per_clip);
-    let morphing = poses::morphing_vertices(&mesh.morph, mesh.vertex_count(), &morph_weights);
-    // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per
-    // frame; a triangle with a morphing corner changes shape from frame to frame, so it is not one.
-    let mut rigid = match input.bind_scale {
-        Some(scale) => poses::rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames, scale),
-        None => Vec::new(),
-    };
-    for (is_rigid, tri) in rigid.iter_mut().zip(indices.chunks_exact(3)) {
-        *is_rigid &= !tri.iter().any(|&v| morphing[v as usize]);
-    }
-    poses::add_rigid_quadrics(&mut quadrics, &input.positions, indices, &rigid);
-    let weight = 1.0 / frames.len() as f64;
-    let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
-    let mut frame_quadrics = poses::FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
-    // The frame's morphed bind positions: only the morphing vertices change from frame to frame.
-    let morphing_vertices: Vec<usize> = (0..morphing.len()).filter(|&v| morphing[v]).collect();
-    let mut morphed = if morphing_vertices.is_empty() { Vec::new() } else { mesh.positions.clone() };
-    for (skin, morph_weights) in frames.iter().zip(&morph_weights) {
-        // Only the corners of the other triangles need their skin matrices.
-        for &v in frame_quadrics.vertices() {
-            let v = v as usize;
-            matrices[v] = crate::skinning::blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
-        }
-        if morphing_vertices.is_empty() {
-            frame_quadrics.add(&matrices, weight);
-        } else {
-            for &v in &morphing_vertices {
-                morphed[v] = mesh.positions[v] + mesh.morph.position_offset(v, morph_weights);
-            }
-            frame_quadrics.add_morphed(&matrices, &morphed, weight);
-        }
-    }
-    frame_quadrics.finish(&mut quadrics);
-    Some(quadrics)
-}
-
 /// Attribute channels and their weights. A weight converts attribute units² into position
 /// units² (see [`SimplifyInput::attribute_weights`]), so each is a squared length relative to the
 /// model's size `d` (bounding-box diagonal):
@@ -461,14 +411,8 @@ fn interleave_attributes(character: &Character, normals: &[Vec3], layout: &Attri
 /// One id per triangle: its primitive's material (`u32::MAX` for the default material), so
 /// borders between materials are kept and primitives sharing a material may merge.
 pub(crate) fn triangle_materials(character: &Character) -> Vec<u32> {
-    let mut out = vec![u32::MAX; character.mesh.triangle_count()];
-    for range in &character.mesh.primitives {
-        let first = range.first_index as usize / 3;
-        let count = range.index_count as usize / 3;
-        let id = range.material.map_or(u32::MAX, |m| m as u32);
-        out[first..first + count].fill(id);
-    }
-    out
+    let ids = character.mesh.triangle_materials();
+    ids.into_iter().map(|m| m.map_or(u32::MAX, |m| m as u32)).collect()
 }
 
 /// Step 3 of the pipeline: skin weights, then bind-space position, normal, uv and colour of every
@@ -569,8 +513,6 @@ fn back_propagate(
     }
     apm
 }
-
-const NONE: u32 = u32::MAX;
 
 /// For each created vertex, the (up to two) vertices that merged into it.
 fn merged_children(pm: &ProgressiveMesh) -> Vec<[u32; 2]> {

@@ -15,7 +15,7 @@ use glam::{Mat3, Mat4, Vec3};
 use crate::morph::{blend_rows, MorphDeltas};
 use crate::skinning;
 
-const NONE: u32 = u32::MAX;
+use crate::progressive::NONE;
 
 /// The row of created vertex `x`: see the module docs. `children` are `x`'s merged vertices
 /// (`NONE` where absent), `survivor` the vertex it inherits identity from, `skin` the joints and

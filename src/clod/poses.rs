@@ -415,6 +415,69 @@ fn centred_quadric(m: Sym3, weight: f64, p0: DVec3) -> Quadric {
     Quadric { a: m, b: (-mp).to_array(), c: p0.dot(mp), weight }
 }
 
+/// Plane quadrics averaged over frames of every clip, each frame with its morph weights, in bind
+/// space (`P0` of multi-pose); `None` when the character has no clip, so the simplifier uses the
+/// bind pose's own planes.
+///
+/// They are measured on `indices`, the triangles the simplifier sees, flat-shaded copies welded: a
+/// welded-away copy has its representative's position and skin (within
+/// [`super::shading::SKIN_WELD_TOLERANCE`]), so posing it again would only repeat the work, four
+/// times over on a fully faceted mesh such as Fox.glb. Welded-away vertices get no planes.
+/// `p0_positions`, `p0_matrices` and `bind_scale` describe `P0` as the simplifier sees it: the
+/// bind pose, or the bind pose scaled by `bind_scale` where the skin holds a change of units (then
+/// `p0_matrices` holds that scale for every vertex; see [`bind_to_model_scale`]); without
+/// `bind_scale` no triangle counts as rigid.
+pub(crate) fn multi_pose_quadrics(
+    character: &Character,
+    indices: &[u32],
+    p0_positions: &[Vec3],
+    p0_matrices: Option<&[Mat4]>,
+    bind_scale: Option<f32>,
+    frames_per_clip: usize,
+) -> Option<Vec<Quadric>> {
+    let frames = multi_pose_frames(character, frames_per_clip);
+    if frames.is_empty() {
+        return None;
+    }
+    let mesh = &character.mesh;
+    let mut quadrics = vec![Quadric::ZERO; mesh.vertex_count()];
+    let morph_weights = multi_pose_morph_weights(character, frames_per_clip);
+    let morphing = morphing_vertices(&mesh.morph, mesh.vertex_count(), &morph_weights);
+    // Triangles that only move rigidly with the bind pose add their plane in P0 once, not per
+    // frame; a triangle with a morphing corner changes shape from frame to frame, so it is not one.
+    let mut rigid = match bind_scale {
+        Some(scale) => rigid_triangles(&mesh.joints, &mesh.weights, indices, &frames, scale),
+        None => Vec::new(),
+    };
+    for (is_rigid, tri) in rigid.iter_mut().zip(indices.chunks_exact(3)) {
+        *is_rigid &= !tri.iter().any(|&v| morphing[v as usize]);
+    }
+    add_rigid_quadrics(&mut quadrics, p0_positions, indices, &rigid);
+    let weight = 1.0 / frames.len() as f64;
+    let mut matrices = vec![Mat4::IDENTITY; mesh.vertex_count()];
+    let mut frame_quadrics = FrameQuadrics::new(&mesh.positions, indices, p0_matrices, &rigid);
+    // The frame's morphed bind positions: only the morphing vertices change from frame to frame.
+    let morphing_vertices: Vec<usize> = (0..morphing.len()).filter(|&v| morphing[v]).collect();
+    let mut morphed = if morphing_vertices.is_empty() { Vec::new() } else { mesh.positions.clone() };
+    for (skin, morph_weights) in frames.iter().zip(&morph_weights) {
+        // Only the corners of the other triangles need their skin matrices.
+        for &v in frame_quadrics.vertices() {
+            let v = v as usize;
+            matrices[v] = blend_matrix(skin, mesh.joints[v], mesh.weights[v]);
+        }
+        if morphing_vertices.is_empty() {
+            frame_quadrics.add(&matrices, weight);
+        } else {
+            for &v in &morphing_vertices {
+                morphed[v] = mesh.positions[v] + mesh.morph.position_offset(v, morph_weights);
+            }
+            frame_quadrics.add_morphed(&matrices, &morphed, weight);
+        }
+    }
+    frame_quadrics.finish(&mut quadrics);
+    Some(quadrics)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -152,7 +152,7 @@ impl LodSource {
             morph: &mesh.morph,
         };
         let ids: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
-        let materials = triangle_materials(&mesh.primitives, mesh.triangle_count());
+        let materials = mesh.triangle_materials();
         let level = build_level(&attributes, &ids, &ids, &mesh.indices, &materials, 0.0, &[]);
         Self { levels: vec![level], morph_texels: morph_texels(&mesh.morph) }
     }
@@ -300,19 +300,6 @@ fn vertex_materials(character: &Character) -> Vec<Option<usize>> {
                 seen[v as usize] = true;
                 out[v as usize] = range.material;
             }
-        }
-    }
-    out
-}
-
-/// Material of every triangle from a mesh's primitive ranges (`None`: glTF's default material).
-pub fn triangle_materials(primitives: &[PrimitiveRange], triangles: usize) -> Vec<Option<usize>> {
-    let mut out = vec![None; triangles];
-    for range in primitives {
-        let first = (range.first_index / 3) as usize;
-        let end = (first + (range.index_count / 3) as usize).min(triangles);
-        for m in &mut out[first.min(end)..end] {
-            *m = range.material;
         }
     }
     out
@@ -507,14 +494,5 @@ mod tests {
         assert_eq!(level.vertices[2].fine, level.vertices[2].coarse);
         assert_eq!(level.vertices[1].fine.color, [1.0; 4], "no colours: white");
         assert_eq!(level.triangle_count(), 3);
-    }
-
-    #[test]
-    fn primitive_ranges_become_triangle_materials() {
-        let ranges = [
-            PrimitiveRange { first_index: 0, index_count: 6, material: Some(0) },
-            PrimitiveRange { first_index: 6, index_count: 3, material: None },
-        ];
-        assert_eq!(triangle_materials(&ranges, 3), [Some(0), Some(0), None]);
     }
 }

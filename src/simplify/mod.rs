@@ -31,6 +31,7 @@ pub use collapse::{pricing_stats, PricingStats};
 pub use quadric::Quadric;
 
 use crate::progressive::ProgressiveMesh;
+pub use crate::progressive::StopReason;
 use glam::Vec3;
 
 /// The mesh to simplify, as explicit arrays.
@@ -115,18 +116,6 @@ impl Default for SimplifyOptions {
             schedule: Schedule::Strict,
         }
     }
-}
-
-/// Why simplification ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StopReason {
-    /// `target_triangles` was reached.
-    TargetReached,
-    /// Every collapse left would cost more than `max_error`.
-    MaxErrorReached,
-    /// No valid collapse is left (everything remaining is locked or would fold); the mesh may
-    /// still have more triangles than asked for.
-    NoValidCollapse,
 }
 
 /// Invalid input to [`simplify`].

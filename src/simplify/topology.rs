@@ -31,8 +31,7 @@
 
 use glam::Vec3;
 
-/// "No index" marker in the u32 index arrays.
-pub(crate) const NONE: u32 = u32::MAX;
+pub(crate) use crate::progressive::NONE;
 
 /// The role of a position class; see the module docs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

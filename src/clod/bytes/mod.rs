@@ -49,15 +49,13 @@ use super::{Clod, SimplificationPose};
 use super::{ClodError, PoseInput, WeightRule};
 use crate::character::Character;
 use crate::morph::MorphDeltas;
-use crate::progressive::{CollapseRecord, CornerChange, ProgressiveMesh};
-use crate::simplify::StopReason;
+use crate::progressive::{CollapseRecord, CornerChange, ProgressiveMesh, StopReason, NONE};
 
 /// The first four bytes.
 pub const MAGIC: [u8; 4] = *b"CLOD";
 /// The layout this module writes and reads; bump it whenever the layout changes. Version 1
 /// stored every array of a built chain (about 5× the `.glb`).
 pub const FORMAT_VERSION: u32 = 2;
-const NONE: u32 = u32::MAX;
 /// Bytes of one collapse record and one corner change.
 const COLLAPSE_BYTES: usize = 32;
 const CORNER_CHANGE_BYTES: usize = 8;
