@@ -556,7 +556,7 @@ fn max_error_and_target_stop_early() {
         let full = with(SimplifyOptions::default());
         let k_mid = full.collapse_count() / 2;
         let limit = full.collapses[k_mid].cost;
-        let limited = with(SimplifyOptions { max_error: limit, ..SimplifyOptions::default() });
+        let limited = with(SimplifyOptions { max_mean_squared_error: limit, ..SimplifyOptions::default() });
         assert_eq!(limited.stop, StopReason::MaxErrorReached, "{schedule:?}");
         assert!(limited.collapses.iter().all(|c| c.cost <= limit), "{schedule:?}");
         // The same order up to the first collapse over the limit, which is skipped.

@@ -227,7 +227,8 @@ pub fn build(
         target_triangles: *levels.last().expect("levels are not empty"),
         normal_channel: Some(0),
         // Costs are mean squared errors in position units².
-        max_error: (options.max_error * crate::metrics::bounds_diagonal(&input.positions)).powi(2),
+        max_mean_squared_error: (options.max_error * crate::metrics::bounds_diagonal(&input.positions))
+            .powi(2),
         schedule: options.schedule,
     };
     let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {

@@ -99,7 +99,7 @@ pub struct SimplifyOptions {
     /// Make no collapse whose mean squared error (over the area of its two classes, position
     /// units²) exceeds this: such collapses are skipped, and the run ends when only they are
     /// left. Infinite by default.
-    pub max_error: f32,
+    pub max_mean_squared_error: f32,
     /// First of three attribute channels holding a normal, renormalised after interpolation.
     pub normal_channel: Option<usize>,
     /// The order of collapses. Default value: [`Schedule::Strict`].
@@ -111,7 +111,7 @@ impl Default for SimplifyOptions {
         SimplifyOptions {
             mode: CollapseMode::Full,
             target_triangles: 0,
-            max_error: f32::INFINITY,
+            max_mean_squared_error: f32::INFINITY,
             normal_channel: None,
             schedule: Schedule::Strict,
         }

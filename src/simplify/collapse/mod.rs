@@ -22,7 +22,7 @@
 //! 0.10 → 0.08 on CesiumMan, 0.78 → 0.70 on Fox, 0.42 → 0.41 on
 //! RiggedSimple, 0.67 → 0.55 on the built-in character and 1.52 → 1.25 on `parts.glb`, whose 57
 //! open plates of different sizes now go down unevenly, large ones keeping more triangles. The
-//! floor (`max_error`) and the recorded error stay RMS, so a level's error is still a distance.
+//! floor (`max_mean_squared_error`) and the recorded error stay RMS, so a level's error is still a distance.
 //! A pair smaller than [`SMALL_PAIR`] of the mean area is ordered as if it were that large, so a
 //! small part does not go at several times the distance of the rest.
 //! Since the order is not the RMS order, a collapse over the floor is skipped rather than ending
@@ -124,10 +124,10 @@ pub(crate) fn run(
 ) -> CollapseLog {
     let mut engine = Engine::new(input, options);
     engine.queue_all_edges();
-    let (target, max_error) = (options.target_triangles, options.max_error);
+    let (target, max_mean_squared_error) = (options.target_triangles, options.max_mean_squared_error);
     let stop = match options.schedule {
-        Schedule::Passes => engine.collapse_in_passes(target, max_error, progress),
-        Schedule::Strict => engine.collapse_until(target, max_error, progress),
+        Schedule::Passes => engine.collapse_in_passes(target, max_mean_squared_error, progress),
+        Schedule::Strict => engine.collapse_until(target, max_mean_squared_error, progress),
     };
     engine.log.stop = stop;
     engine.stats.collapses = engine.log.steps.len() as u64;

@@ -37,7 +37,7 @@ impl Engine<'_> {
     pub(super) fn collapse_in_passes(
         &mut self,
         target: usize,
-        max_error: f32,
+        max_mean_squared_error: f32,
         progress: &mut dyn FnMut(f32),
     ) -> StopReason {
         let mut reporter = Progress::new(self.live_triangles, target);
@@ -51,9 +51,13 @@ impl Engine<'_> {
             let goal = self.rank(running_max);
             let first = self.sort(goal);
             let mut batch = std::mem::take(&mut self.candidates);
-            let stop = self.perform(&batch[first..], target, max_error, &mut running_max, &mut |live| {
-                reporter.update(live, progress)
-            });
+            let stop = self.perform(
+                &batch[first..],
+                target,
+                max_mean_squared_error,
+                &mut running_max,
+                &mut |live| reporter.update(live, progress),
+            );
             if let Some(stop) = stop {
                 return stop;
             }
@@ -103,13 +107,13 @@ impl Engine<'_> {
         end
     }
 
-    /// Commits `batch` in order, skipping collapses over `max_error`; `Some` when the target is
+    /// Commits `batch` in order, skipping collapses over `max_mean_squared_error`; `Some` when the target is
     /// reached.
     fn perform(
         &mut self,
         batch: &[Candidate],
         target: usize,
-        max_error: f32,
+        max_mean_squared_error: f32,
         running_max: &mut f32,
         report: &mut dyn FnMut(usize),
     ) -> Option<StopReason> {
@@ -128,7 +132,7 @@ impl Engine<'_> {
             let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
-            if plan.mean_squared as f32 > max_error {
+            if plan.mean_squared as f32 > max_mean_squared_error {
                 self.over_floor = true;
                 continue;
             }

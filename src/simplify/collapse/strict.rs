@@ -14,7 +14,7 @@ impl Engine<'_> {
     pub(super) fn collapse_until(
         &mut self,
         target: usize,
-        max_error: f32,
+        max_mean_squared_error: f32,
         progress: &mut dyn FnMut(f32),
     ) -> StopReason {
         let mut reporter = Progress::new(self.live_triangles, target);
@@ -55,7 +55,7 @@ impl Engine<'_> {
             let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
                 continue;
             };
-            if plan.mean_squared as f32 > max_error {
+            if plan.mean_squared as f32 > max_mean_squared_error {
                 self.over_floor = true;
                 continue;
             }
