@@ -23,11 +23,14 @@
 //! - [`Kind::Junction`]: a single disk or half-disk with one constraint edge (a line end) or
 //!   three or more (lines meeting): it may be removed only by a collapse that carries every wedge
 //!   it uses onto its own wedge of the survivor (a seam end moving to a neighbour, a junction
-//!   sliding along one of its lines), and the survivor keeps its position, unless an interior
-//!   vertex collapses onto a junction of seams alone (see `on_outline` in [`Classification`]);
+//!   sliding along one of its lines), and the survivor keeps its position (but see below);
 //! - [`Kind::Locked`]: anything else (non-manifold or inconsistently oriented edges, fans that
 //!   are not a single disk, triangles with two corners at one position): it is never removed,
 //!   though other vertices may collapse onto it.
+//!
+//! An interior vertex may collapse onto any of them. Onto an outline the survivor stays where it
+//! is; onto a line, corner or junction whose lines are all seams the two merge at their quadric's
+//! minimiser, as interior vertices do, and the seam moves with its surface (`collapse/plan.rs`).
 
 use glam::Vec3;
 
