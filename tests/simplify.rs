@@ -208,28 +208,33 @@ fn octahedron_edge_collapses_to_its_quadric_minimiser() {
     check_invariants(&mesh, &pm, &[0, 1], true);
 }
 
+/// Splits the grid `mesh` (`nx` quads wide, from [`grid`]) along its column `x = column`: the
+/// triangles right of it use duplicates of the column's vertices, appended in row order. Returns
+/// the first duplicate's id.
+fn split_column(mesh: &mut Mesh, nx: u32, column: u32) -> u32 {
+    let base = mesh.positions.len() as u32;
+    let rows = base / (nx + 1);
+    let mut duplicate = vec![u32::MAX; base as usize];
+    for j in 0..rows {
+        let v = j * (nx + 1) + column;
+        duplicate[v as usize] = base + j;
+        mesh.positions.push(mesh.positions[v as usize]);
+    }
+    for tri in mesh.indices.chunks_exact_mut(3) {
+        if tri.iter().any(|&v| v % (nx + 1) > column) {
+            for v in tri.iter_mut().filter(|v| duplicate[**v as usize] != u32::MAX) {
+                *v = duplicate[*v as usize];
+            }
+        }
+    }
+    base
+}
+
 /// A 4×4-quad grid whose middle column x = 2 is split: the right side's triangles use duplicate
 /// vertices (ids 25..30) with a different u coordinate.
 fn seam_grid() -> Mesh {
     let mut mesh = grid(4, 4, |_, _| 0.0);
-    let base = mesh.positions.len() as u32;
-    let mut duplicate = vec![u32::MAX; base as usize];
-    for j in 0..5u32 {
-        let v = j * 5 + 2;
-        duplicate[v as usize] = base + j;
-        mesh.positions.push(mesh.positions[v as usize]);
-    }
-    for t in 0..mesh.indices.len() / 3 {
-        let tri = &mut mesh.indices[3 * t..3 * t + 3];
-        let right = tri.iter().any(|&v| v < base && v % 5 > 2);
-        if right {
-            for v in tri.iter_mut() {
-                if duplicate[*v as usize] != u32::MAX {
-                    *v = duplicate[*v as usize];
-                }
-            }
-        }
-    }
+    let base = split_column(&mut mesh, 4, 2);
     mesh.weights = vec![1.0];
     mesh.attributes = mesh
         .positions
@@ -291,25 +296,12 @@ fn seam_wedges_collapse_together() {
     }
 }
 
-/// A bumpy 6×6-quad grid split along its column x = 3 as [`seam_grid`] is, with four channels
+/// A bumpy 6×6-quad grid split along its column x = 3 ([`split_column`]), with four channels
 /// (normal xyz, u): the left side's vertices have `left` as normal, the right side's `right`, and
 /// the right side's u is offset by `u_offset`.
 fn split_grid(left: Vec3, right: Vec3, u_offset: f32) -> Mesh {
     let mut mesh = grid(6, 6, |i, j| 0.4 * ((i as f32 * 1.3).sin() + (j as f32 * 0.9).cos()));
-    let base = mesh.positions.len() as u32;
-    let mut duplicate = vec![u32::MAX; base as usize];
-    for j in 0..7u32 {
-        let v = j * 7 + 3;
-        duplicate[v as usize] = base + j;
-        mesh.positions.push(mesh.positions[v as usize]);
-    }
-    for tri in mesh.indices.chunks_exact_mut(3) {
-        if tri.iter().any(|&v| v % 7 > 3) {
-            for v in tri.iter_mut().filter(|v| duplicate[**v as usize] != u32::MAX) {
-                *v = duplicate[*v as usize];
-            }
-        }
-    }
+    let base = split_column(&mut mesh, 6, 3);
     let right_side = |v: usize| v as u32 >= base || v % 7 > 3;
     mesh.attributes = (0..mesh.positions.len())
         .flat_map(|v| {

@@ -266,11 +266,13 @@ impl<'a> Engine<'a> {
         let classes = position_classes(positions, indices);
         let class_count = classes.count();
         let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
-        let normal = |vertex: u32| {
-            let at = vertex as usize * m + options.normal_channel.unwrap_or(0);
+        // A seam creases where its wedges' normals differ; without a normal channel none does.
+        let normal = |vertex: u32, channel: usize| {
+            let at = vertex as usize * m + channel;
             Vec3::from_slice(&input.attributes[at..at + 3])
         };
-        let creased = |a: u32, b: u32| options.normal_channel.is_some() && creases(normal(a), normal(b));
+        let creased =
+            |a: u32, b: u32| options.normal_channel.is_some_and(|c| creases(normal(a, c), normal(b, c)));
         let Classification { kinds: kind, on_outline, sides } =
             classify(&classes, positions, &lists, indices, input.triangle_materials, creased);
         let position: Vec<DVec3> =
