@@ -25,6 +25,10 @@ cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest webgl.features)" -- -D warnings
 
+step "rustdoc: no broken or private intra-doc links (native core; wasm32 with the renderer)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --quiet
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --quiet --target "$target" --features "$(manifest webgl.features)"
+
 step "the core builds without the JS layer (native and wasm32)"
 cargo check --lib --no-default-features
 cargo check --lib --no-default-features --target "$target"

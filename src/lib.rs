@@ -1,9 +1,25 @@
 //! Articulated progressive meshes for skinned glTF characters, and a browser viewer that compares
 //! level-of-detail transitions (popping, alpha-blending, geomorphing) on them.
 //!
-//! The core — [`import`], [`skeleton`], [`animation`], [`morph`], [`skinning`] — has no GPU and no DOM
+//! The data path, from a dropped file to a frame:
+//!
+//! ```text
+//! bytes ─ import::from_bytes ─▶ Character (SkinnedMesh, Skeleton, Clips, MorphDeltas)
+//!   ─ clod::build ─▶ Clod: poses (multi-pose quadrics) → simplify (collapse log)
+//!                    → progressive (ProgressiveMesh) → back-propagation to bind space
+//!                    → chain (discrete levels, ancestor tables)
+//!   ─ clod::bytes::encode / decode ─▶ (worker → page, IndexedDB cache)
+//!   ─ render::lod_source::LodSource::from_clod ─▶ GPU-ready levels ─ render::gpu::Renderer::new
+//! per frame: render::viewer::ViewerModel::advance (clocks, camera, schedule::step, plan::plan_view)
+//!   ─ Renderer::render ─▶ render/skin.wgsl (morph and skin every view), difference.wgsl (the meter)
+//! ```
+//!
+//! The core — [`import`], [`character`], [`mesh`], [`skeleton`], [`animation`], [`morph`],
+//! [`skinning`], [`simplify`](mod@simplify), [`progressive`], [`clod`], [`vertex_cache`], [`metrics`] and the pure
+//! half of [`render`] (schedule, plan, camera, layout, the viewer's model) — has no GPU and no DOM
 //! dependency: it builds and tests natively and on `wasm32-unknown-unknown`. The `js` feature adds
-//! the wasm-bindgen API used by the page and by node; the `web` feature adds the renderer.
+//! the wasm-bindgen API used by the page and by node (`js_api`); the `web` feature adds the wgpu
+//! renderer (`render::gpu`) and the page's viewer (`web`).
 //!
 //! Conventions: right-handed, metres (whatever the file uses), column vectors, matrices named
 //! `a_from_b` (they map points of space `b` into space `a`), glTF's parent-first node order.

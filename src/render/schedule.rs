@@ -86,7 +86,7 @@ fn zone_ramp(distance: f32, switch: f32, zone: f32) -> f32 {
 }
 
 /// The level coordinate for distance-driven transitions: the sum of every coarse level's zone
-/// ramp ([`zone_ramp`]), so `i + t` inside the zone `[Dᵢ₊₁ (1 − zone), Dᵢ₊₁)` of separate zones and
+/// ramp (`zone_ramp`), so `i + t` inside the zone `[Dᵢ₊₁ (1 − zone), Dᵢ₊₁)` of separate zones and
 /// whole levels between them.
 ///
 /// It is a continuous, non-decreasing function of the distance for any zone width and any switch

@@ -7,7 +7,7 @@
 //!
 //! Attribute quadrics (Hoppe 1999, "New quadric metric for simplifying meshes with appearance
 //! attributes"): every face carries, per attribute channel, the linear field `s(p) = g·p + d` that
-//! interpolates the channel's three corner values over the face's plane ([`TriangleFrame`]). The
+//! interpolates the channel's three corner values over the face's plane (`TriangleFrame`). The
 //! error of a vertex at `p` with channel value `s` is `Σ area · w · (g·p + d − s)²`. Expanding it,
 //! the `A`, `b`, `c` parts are plain quadric terms and are summed into a 3×3 [`Quadric`]; only the
 //! cross terms `Σ area·w·g`, `Σ area·w·d` and `Σ area` are kept per wedge (4 numbers per channel

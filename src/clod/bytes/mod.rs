@@ -6,9 +6,9 @@
 //! (Hoppe's vertex splits, as slot and corner changes), the positions and attributes the
 //! simplifier gave the vertices it created, and the build's choices (pose, weight rule, level
 //! requests). Decoding recomputes the rest exactly, with the same code the build ran: the input
-//! vertices' `P0` positions and attributes ([`super::PoseInput`]), the base triangles, birth
+//! vertices' `P0` positions and attributes (`PoseInput`), the base triangles, birth
 //! steps and slots that follow from the records, back-propagation to bind space and the discrete
-//! levels with their ancestor tables ([`super::articulate`]). So a chain is about 1.5× its
+//! levels with their ancestor tables (`articulate`). So a chain is about 1.5× its
 //! `.glb` (measured in `tests/clod_bytes.rs`), and a decoded chain equals the built one.
 //!
 //! The format is ours (no paper or spec): little-endian, no padding, no compression. Every
@@ -18,7 +18,7 @@
 //!
 //! 1. header: magic `b"CLOD"`, format version `u32` ([`FORMAT_VERSION`]);
 //! 2. the character: `n` and the triangle count (`u32`), and a 64-bit fingerprint of its mesh
-//!    ([`fingerprint`]: FNV-1a over positions, normals, uvs, colours, joints, weights,
+//!    (`fingerprint`: FNV-1a over positions, normals, uvs, colours, joints, weights,
 //!    triangles and morph deltas), so a chain is never attached to another character;
 //! 3. the build's choices: pose tag `u32` (0 bind, 1 clip frame, 2 multi-pose, 3 mid-clip; a
 //!    clip frame adds the clip name as `u32` byte count and UTF-8, and the time `f32` in

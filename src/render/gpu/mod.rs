@@ -114,7 +114,7 @@ pub struct FrameInput<'a> {
     pub views: [(Rect, &'a ViewPlan); 3],
     /// Drawn over every view alike.
     pub overlay: Overlay,
-    /// Measure this frame for the live meter, tagged with this number (see [`meter`]).
+    /// Measure this frame for the live meter, tagged with this number (see `meter`).
     pub meter: Option<u64>,
     /// Crowd mode: each view draws the crowd's instanced draws instead of its plan (whose
     /// records [`Renderer::set_crowd_instances`] has written), the meter's reference too.
@@ -401,7 +401,7 @@ impl Renderer {
 
     /// Uploads level `fine`'s vertices paired with their ancestors in level `coarse`
     /// ([`LodSource::morph_vertices`]), dropping the least recently used pair beyond
-    /// [`MORPH_PAIRS`].
+    /// `MORPH_PAIRS`.
     pub fn add_morph_pair(&mut self, fine: usize, coarse: usize, vertices: &[GeomorphVertexRaw]) {
         let buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("level-skipping geomorph"),
