@@ -46,6 +46,9 @@ fn rotated_to_min(mut t: [u32; 3]) -> [u32; 3] {
 /// Indices in range, no degenerate triangle, no duplicate but a two-sided sheet, ancestors valid, errors monotone.
 fn check_chain(name: &str, clod: &Clod) {
     let pm = &clod.apm.pm;
+    if let Err(broken) = pm.validate() {
+        panic!("{name}: the progressive mesh breaks an invariant: {broken}");
+    }
     assert!(clod.levels.len() >= 2, "{name}: only {} level(s)", clod.levels.len());
     for (i, level) in clod.levels.iter().enumerate() {
         let n = level.vertices.len() as u32;

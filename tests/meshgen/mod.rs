@@ -119,6 +119,9 @@ pub fn spread_levels(pm: &ProgressiveMesh, count: usize) -> Vec<usize> {
 /// is a closed manifold, so every level must be watertight at the position level.
 pub fn check_invariants(mesh: &Mesh, pm: &ProgressiveMesh, levels: &[usize], closed: bool) {
     let t0 = mesh.indices.len() / 3;
+    if let Err(broken) = pm.validate() {
+        panic!("the progressive mesh breaks an invariant: {broken}");
+    }
     // Lossless: the base triangles are the input triangles, reordered.
     assert_eq!(pm.triangle_count_after(0), t0);
     assert_eq!(pm.triangle_source.len(), t0);

@@ -16,6 +16,10 @@
 //! [`PmCursor`] moves between levels by applying or undoing only the recorded corner changes of
 //! each step.
 
+mod validate;
+
+pub use validate::BrokenInvariant;
+
 use glam::Vec3;
 use std::cmp::Reverse;
 
