@@ -111,6 +111,65 @@ fn close(a: Vec3, b: Vec3) -> bool {
     a.abs_diff_eq(b, 1e-6)
 }
 
+/// Some exporters write one vertex buffer per mesh and let each primitive index part of it. Each
+/// primitive then gets the vertices it uses, with their attributes and morph deltas: the grid's
+/// two rows of quads as two primitives over the same accessors import to 6 + 6 vertices (the
+/// middle row in both), not 9 + 9, each equal to the file vertex it was read from.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
+    let whole = grid();
+    let mut json: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    let accessors = json["accessors"].as_array_mut().unwrap();
+    for offset in [0, 24] {
+        let text = format!(
+            r#"{{"bufferView": 2, "byteOffset": {offset}, "componentType": 5123, "count": 12, "type": "SCALAR"}}"#
+        );
+        accessors.push(gltf_json::deserialize::from_str(&text).unwrap());
+    }
+    let rows = [accessors.len() - 2, accessors.len() - 1];
+    let primitive = json["meshes"][0]["primitives"][0].clone();
+    let primitives = json["meshes"][0]["primitives"].as_array_mut().unwrap();
+    primitives.clear();
+    for row in rows {
+        let mut split = primitive.clone();
+        split["indices"] = gltf_json::Value::from(row);
+        primitives.push(split);
+    }
+    let split = from_gltf(&gltf_json::serialize::to_vec(&json).unwrap(), &mut |_| None).unwrap();
+    // Merged vertex → the file's vertex: the first row uses 0..6, the second 3..9.
+    let file_vertex: Vec<usize> = (0..6).chain(3..9).collect();
+    assert_eq!(split.mesh.vertex_count(), file_vertex.len());
+    for (v, &f) in file_vertex.iter().enumerate() {
+        assert_eq!(split.mesh.positions[v], whole.mesh.positions[f], "vertex {v}");
+        assert_eq!(split.mesh.normals[v], whole.mesh.normals[f], "vertex {v}");
+        // Each primitive numbers its own two targets (the second's are 2 and 3).
+        let split_row: Vec<_> = split.mesh.morph.of(v).map(|(t, dp, dn)| (t % 2, dp, dn)).collect();
+        assert_eq!(split_row, whole.mesh.morph.of(f).collect::<Vec<_>>(), "vertex {v}");
+    }
+    let triangles = |c: &Character| -> Vec<[Vec3; 3]> {
+        let p = &c.mesh.positions;
+        c.mesh
+            .indices
+            .chunks_exact(3)
+            .map(|t| [p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]])
+            .collect()
+    };
+    assert_eq!(triangles(&split), triangles(&whole));
+    // A message names the file's vertex: file vertex 7 is the second primitive's fifth.
+    use base64::Engine;
+    let mut bytes = buffer();
+    bytes[108 + 7 * 12..108 + 7 * 12 + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let uri = base64::engine::general_purpose::STANDARD.encode(bytes);
+    json["buffers"][0]["uri"] = gltf_json::Value::from(format!("data:application/octet-stream;base64,{uri}"));
+    let error = from_gltf(&gltf_json::serialize::to_vec(&json).unwrap(), &mut |_| None).err().unwrap();
+    let message = error.to_string();
+    assert!(
+        message.contains("primitive 1") && message.contains("vertex 7 has a non-finite normal"),
+        "{message}"
+    );
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn targets_deltas_and_default_weights_import_exactly() {

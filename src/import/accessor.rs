@@ -6,6 +6,9 @@
 //! `i8 / 127` clamped at -1, …) when the accessor is `normalized`, and by value otherwise.
 //! Components are read byte-wise in little endian, so misaligned data is read, not rejected.
 
+use std::collections::HashMap;
+use std::rc::Rc;
+
 use gltf_json::accessor::{ComponentType, GenericComponentType, Type};
 use gltf_json::validation::Checked;
 use gltf_json::Root;
@@ -246,6 +249,110 @@ pub(crate) fn read_uints(
     max_count: usize,
 ) -> Result<Elements<u32>, ImportError> {
     read(src, index, usage, types, max_count, &|ct, _, b| component_u32(ct, b))
+}
+
+/// Accessors that several readers share, decoded once each. Some exporters write one vertex buffer
+/// for a whole mesh and let every primitive index a part of it, and a mesh drawn by two nodes is
+/// read twice: reading such an accessor again for every primitive would make an import quadratic
+/// (200 primitives over one 100,000-vertex buffer read 20 million vertices). An accessor counted
+/// more than once in [`SharedReads::new`] is kept from its first read until its last.
+pub(crate) struct SharedReads {
+    /// Reads still to come, per accessor counted more than once.
+    reads_left: HashMap<usize, usize>,
+    floats: HashMap<usize, Rc<Elements<f32>>>,
+    uints: HashMap<usize, Rc<Elements<u32>>>,
+}
+
+impl SharedReads {
+    /// Expects one read of each accessor in `reads` per time it is listed.
+    pub fn new(reads: impl IntoIterator<Item = usize>) -> SharedReads {
+        let mut reads_left = HashMap::new();
+        for index in reads {
+            *reads_left.entry(index).or_insert(0) += 1;
+        }
+        reads_left.retain(|_, count| *count > 1);
+        SharedReads { reads_left, floats: HashMap::new(), uints: HashMap::new() }
+    }
+
+    /// [`read_floats`], decoding a shared accessor only the first time.
+    ///
+    /// # Errors
+    /// As [`read_floats`]; a kept accessor's type is checked again for each use.
+    pub fn floats(
+        &mut self,
+        src: Source,
+        index: usize,
+        usage: &str,
+        types: &[Type],
+        max_count: usize,
+    ) -> Result<Rc<Elements<f32>>, ImportError> {
+        let keep = self.read_once_more(src, index, usage, types)?;
+        Self::shared(&mut self.floats, keep, index, || read_floats(src, index, usage, types, max_count))
+    }
+
+    /// [`read_uints`], decoding a shared accessor only the first time.
+    ///
+    /// # Errors
+    /// As [`read_uints`].
+    pub fn uints(
+        &mut self,
+        src: Source,
+        index: usize,
+        usage: &str,
+        types: &[Type],
+        max_count: usize,
+    ) -> Result<Rc<Elements<u32>>, ImportError> {
+        let keep = self.read_once_more(src, index, usage, types)?;
+        Self::shared(&mut self.uints, keep, index, || read_uints(src, index, usage, types, max_count))
+    }
+
+    /// Counts one read of `index`: whether to keep it for a later one. A kept accessor was read
+    /// for another use, so its type is checked against this one's.
+    fn read_once_more(
+        &mut self,
+        src: Source,
+        index: usize,
+        usage: &str,
+        types: &[Type],
+    ) -> Result<bool, ImportError> {
+        let Some(left) = self.reads_left.get_mut(&index) else { return Ok(false) };
+        *left = left.saturating_sub(1);
+        if let Some(Checked::Valid(ty)) = src.root.accessors.get(index).map(|a| a.type_) {
+            if !types.contains(&ty) {
+                return Err(accessor_error(index, usage, format!("is {ty:?} but must be one of {types:?}")));
+            }
+        }
+        Ok(*left > 0)
+    }
+
+    fn shared<T>(
+        kept: &mut HashMap<usize, Rc<Elements<T>>>,
+        keep: bool,
+        index: usize,
+        read: impl FnOnce() -> Result<Elements<T>, ImportError>,
+    ) -> Result<Rc<Elements<T>>, ImportError> {
+        let elements = match kept.remove(&index) {
+            Some(elements) => elements,
+            None => Rc::new(read()?),
+        };
+        if keep {
+            kept.insert(index, Rc::clone(&elements));
+        }
+        Ok(elements)
+    }
+}
+
+/// The elements at `rows` (all of them, in order, for `None`), without a copy when all are wanted
+/// from an accessor no one else holds.
+pub(crate) fn pick_rows<T: Copy>(elements: Rc<Elements<T>>, rows: Option<&[u32]>) -> Elements<T> {
+    let Some(rows) = rows else {
+        return Rc::try_unwrap(elements).unwrap_or_else(|shared| Elements {
+            values: shared.values.clone(),
+            components: shared.components,
+        });
+    };
+    let values = rows.iter().flat_map(|&r| elements.get(r as usize).iter().copied()).collect();
+    Elements { values, components: elements.components }
 }
 
 #[cfg(test)]

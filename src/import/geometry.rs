@@ -1,8 +1,10 @@
 //! Mesh primitives (glTF 2.0 §3.7.2) of every mesh node merged into one indexed
 //! [`SkinnedMesh`] in bind space.
 //!
-//! Per primitive, in order: read and check the vertex attributes and triangles (strips and fans
-//! become lists; points and lines are skipped), resolve skin influences (the four largest of all
+//! Per primitive, in order: read and check the triangles (strips and fans become lists; points and
+//! lines are skipped) and the vertex attributes of the vertices they use (a primitive may index
+//! part of a vertex buffer that a whole mesh shares; such an accessor is decoded once, see
+//! [`SharedReads`]), resolve skin influences (the four largest of all
 //! JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by decreasing weight,
 //! renormalized to sum 1), give a primitive without normals flat ones (one corner per triangle
 //! corner, as the spec asks), weld bit-identical corners of non-indexed primitives, replace
@@ -26,12 +28,18 @@ use gltf_json::accessor::Type;
 use gltf_json::mesh::{Mode, Semantic};
 use gltf_json::validation::Checked;
 
-use super::accessor::{read_floats, read_uints, Elements, Source};
+use std::rc::Rc;
+
+use super::accessor::{pick_rows, Elements, SharedReads, Source};
 use super::scene::{node_name, JointTable, MeshInstance, SceneGraph};
 use super::{ImportError, MAX_INDICES, MAX_VERTICES};
 use crate::mesh::{compute_normals, PrimitiveRange, SkinnedMesh};
 use crate::morph::{MorphTarget, MAX_MORPH_DELTAS, MAX_MORPH_TARGETS};
 use crate::skeleton::Skeleton;
+
+mod corners;
+
+use self::corners::{flat_shaded, weld};
 
 /// One vertex's morph entries within its primitive: `(local target, position Δ, normal Δ)`.
 type MorphRow = Vec<(u16, Vec3, Vec3)>;
@@ -61,6 +69,33 @@ struct Primitive {
     /// Number of morph targets, and each vertex's non-zero deltas (empty when no targets).
     target_count: usize,
     morph: Vec<MorphRow>,
+    /// The accessors' element count, and the element each vertex was read from when the triangles
+    /// use only some of them (`None`: vertex `v` is element `v`). For messages and morph targets,
+    /// which are read right after; [`weld`] and [`flat_shaded`] renumber and set `None`.
+    file_count: usize,
+    rows: Option<Vec<u32>>,
+}
+
+impl Primitive {
+    /// The file's number for vertex `v`, for messages.
+    fn file_vertex(&self, v: usize) -> usize {
+        self.rows.as_ref().map_or(v, |rows| rows[v] as usize)
+    }
+}
+
+/// The vertices that `indices` use, ascending, when they are fewer than the `count` the
+/// accessors hold; `indices` then number them in that list.
+fn used_rows(indices: &mut [u32], count: usize) -> Option<Vec<u32>> {
+    let mut rows = indices.to_vec();
+    rows.sort_unstable();
+    rows.dedup();
+    if rows.len() == count {
+        return None;
+    }
+    for i in indices.iter_mut() {
+        *i = rows.binary_search(i).expect("every index is in the list") as u32;
+    }
+    Some(rows)
 }
 
 /// Skin data resolved to [`crate::Skeleton::joints`].
@@ -91,6 +126,8 @@ pub(crate) fn merge_meshes(
     let mut table = JointTable::default();
     let mut out = SkinnedMesh::default();
     let mut warned_meshes = HashSet::new();
+    let mut shared =
+        SharedReads::new(graph.instances.iter().flat_map(|inst| vertex_reads(src.root, inst.mesh)));
     for inst in &graph.instances {
         let mesh = src.root.meshes.get(inst.mesh).ok_or_else(|| {
             ImportError::Invalid(format!("node {} uses mesh {} which does not exist", inst.node, inst.mesh))
@@ -108,12 +145,14 @@ pub(crate) fn merge_meshes(
         let default_weights = node_weights.or(mesh.weights.as_ref());
         for (p, prim_json) in mesh.primitives.iter().enumerate() {
             let label = format!("{mesh_label} primitive {p}");
-            let Some(mut prim) = read_primitive(src, prim_json, &label, warnings)? else { continue };
-            read_targets(src, prim_json, &mut prim, &label, morph)?;
+            let Some(mut prim) = read_primitive(src, &mut shared, prim_json, &label, warnings)? else {
+                continue;
+            };
+            read_targets(src, &mut shared, prim_json, &mut prim, &label, morph)?;
             let skinned = match inst.skin {
                 Some(skin) if !prim.influence_sets.is_empty() => {
                     let remap = table.skin(src, slots, skin)?;
-                    Some(resolve_influences(&prim.influence_sets, remap, &label)?)
+                    Some(resolve_influences(&prim.influence_sets, remap, &label, &|v| prim.file_vertex(v))?)
                 }
                 Some(_) => {
                     warnings
@@ -165,6 +204,17 @@ pub(crate) fn merge_meshes(
     Ok(out)
 }
 
+/// The accessors that reading mesh `mesh` may read: indices, vertex attributes and morph targets
+/// of every primitive (for [`SharedReads`]: one that appears more than once is decoded once).
+fn vertex_reads(root: &gltf_json::Root, mesh: usize) -> impl Iterator<Item = usize> + '_ {
+    let primitives = root.meshes.get(mesh).map_or(&[][..], |m| &m.primitives[..]);
+    primitives.iter().flat_map(|p| {
+        let targets = p.targets.iter().flatten().flat_map(|t| [t.positions, t.normals]).flatten();
+        let accessors = p.attributes.values().chain(&p.indices).map(|a| a.value());
+        accessors.chain(targets.map(|a| a.value()))
+    })
+}
+
 /// The `KHR_texture_transform` of `material`'s base colour texture as a matrix on uvs
 /// (translation · rotation · scale, the extension's order; rotation counter-clockwise in uv
 /// space), the identity without one. The viewer samples only the base colour texture, so its
@@ -201,6 +251,7 @@ fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> u32 {
 /// triangles.
 fn read_primitive(
     src: Source,
+    shared: &mut SharedReads,
     prim: &gltf_json::mesh::Primitive,
     label: &str,
     warnings: &mut Vec<String>,
@@ -220,11 +271,33 @@ fn read_primitive(
     };
     let usage = |name: &str| format!("{name} of {label}");
 
-    let positions = read_floats(src, position_accessor, &usage("POSITION"), &[Type::Vec3], MAX_VERTICES)?;
-    let count = positions.count();
-    let positions = to_vec3(&positions);
+    // Triangles first: a primitive may index only part of its accessors (a vertex buffer shared
+    // by every primitive of a mesh), and only the vertices it uses are read into it.
+    let file_positions =
+        shared.floats(src, position_accessor, &usage("POSITION"), &[Type::Vec3], MAX_VERTICES)?;
+    let count = file_positions.count();
+    let (mut indices, indexed) = match prim.indices {
+        Some(a) => {
+            let e = shared.uints(src, a.value(), &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
+            if let Some(&i) = e.values.iter().find(|&&i| i as usize >= count) {
+                return Err(prim_error(label, format!("index {i} is out of range for {count} vertices")));
+            }
+            (triangle_list(mode, &e.values), true)
+        }
+        None => (triangle_list(mode, &(0..count as u32).collect::<Vec<_>>()), false),
+    };
+    if indices.is_empty() {
+        warnings.push(format!("{label} has no complete triangle; skipped"));
+        return Ok(None);
+    }
+    let rows = if indexed { used_rows(&mut indices, count) } else { None };
+    let file_vertex = |v: usize| rows.as_ref().map_or(v, |rows| rows[v] as usize);
+    let pick = |e: Rc<Elements<f32>>| pick_rows(e, rows.as_deref());
+
+    let positions = to_vec3(&pick(file_positions));
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(prim_error(label, format!("vertex {v} has a non-finite position {}", positions[v])));
+        let (v, p) = (file_vertex(v), positions[v]);
+        return Err(prim_error(label, format!("vertex {v} has a non-finite position {p}")));
     }
     let same_count = |name: &str, e: &Elements<f32>| -> Result<(), ImportError> {
         match e.count() == count {
@@ -236,11 +309,11 @@ fn read_primitive(
     };
     let normals = match attribute(Semantic::Normals) {
         Some(a) => {
-            let e = read_floats(src, a, &usage("NORMAL"), &[Type::Vec3], MAX_VERTICES)?;
+            let e = shared.floats(src, a, &usage("NORMAL"), &[Type::Vec3], MAX_VERTICES)?;
             same_count("NORMAL", &e)?;
-            let normals = to_vec3(&e);
+            let normals = to_vec3(&pick(e));
             if let Some(v) = normals.iter().position(|n| !n.is_finite()) {
-                return Err(prim_error(label, format!("vertex {v} has a non-finite normal")));
+                return Err(prim_error(label, format!("vertex {} has a non-finite normal", file_vertex(v))));
             }
             Some(normals)
         }
@@ -262,12 +335,16 @@ fn read_primitive(
     let uvs = match attribute(Semantic::TexCoords(set)) {
         Some(a) => {
             let name = format!("TEXCOORD_{set}");
-            let e = read_floats(src, a, &usage(&name), &[Type::Vec2], MAX_VERTICES)?;
+            let e = shared.floats(src, a, &usage(&name), &[Type::Vec2], MAX_VERTICES)?;
             same_count(&name, &e)?;
             let transform = base_color_uv_transform(src.root, material);
-            let uvs: Vec<Vec2> =
-                e.values.chunks_exact(2).map(|c| transform.transform_point2(Vec2::new(c[0], c[1]))).collect();
+            let uvs: Vec<Vec2> = pick(e)
+                .values
+                .chunks_exact(2)
+                .map(|c| transform.transform_point2(Vec2::new(c[0], c[1])))
+                .collect();
             if let Some(v) = uvs.iter().position(|t| !t.is_finite()) {
+                let v = file_vertex(v);
                 return Err(prim_error(label, format!("vertex {v} has a non-finite texture coordinate")));
             }
             Some(uvs)
@@ -276,14 +353,15 @@ fn read_primitive(
     };
     let colors = match attribute(Semantic::Colors(0)) {
         Some(a) => {
-            let e = read_floats(src, a, &usage("COLOR_0"), &[Type::Vec3, Type::Vec4], MAX_VERTICES)?;
+            let e = shared.floats(src, a, &usage("COLOR_0"), &[Type::Vec3, Type::Vec4], MAX_VERTICES)?;
             same_count("COLOR_0", &e)?;
+            let e = pick(e);
             let colors: Vec<Vec4> = match e.components {
                 3 => e.values.chunks_exact(3).map(|c| Vec4::new(c[0], c[1], c[2], 1.0)).collect(),
                 _ => e.values.chunks_exact(4).map(Vec4::from_slice).collect(),
             };
             if let Some(v) = colors.iter().position(|c| !c.is_finite()) {
-                return Err(prim_error(label, format!("vertex {v} has a non-finite colour")));
+                return Err(prim_error(label, format!("vertex {} has a non-finite colour", file_vertex(v))));
             }
             Some(colors)
         }
@@ -294,8 +372,9 @@ fn read_primitive(
         let (Some(j), Some(w)) = (attribute(Semantic::Joints(set)), attribute(Semantic::Weights(set))) else {
             break;
         };
-        let joints = read_uints(src, j, &usage(&format!("JOINTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
-        let weights = read_floats(src, w, &usage(&format!("WEIGHTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
+        let joints = shared.uints(src, j, &usage(&format!("JOINTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
+        let weights =
+            shared.floats(src, w, &usage(&format!("WEIGHTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
         same_count(&format!("WEIGHTS_{set}"), &weights)?;
         if joints.count() != count {
             return Err(prim_error(
@@ -303,24 +382,9 @@ fn read_primitive(
                 format!("JOINTS_{set} has {} elements but POSITION has {count}", joints.count()),
             ));
         }
-        influence_sets.push((joints, weights));
+        influence_sets.push((pick_rows(joints, rows.as_deref()), pick(weights)));
     }
 
-    let (indices, indexed) = match prim.indices {
-        Some(a) => {
-            let e = read_uints(src, a.value(), &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
-            if let Some(&i) = e.values.iter().find(|&&i| i as usize >= count) {
-                return Err(prim_error(label, format!("index {i} is out of range for {count} vertices")));
-            }
-            (e.values, true)
-        }
-        None => ((0..count as u32).collect(), false),
-    };
-    let indices = triangle_list(mode, &indices);
-    if indices.is_empty() {
-        warnings.push(format!("{label} has no complete triangle; skipped"));
-        return Ok(None);
-    }
     Ok(Some(Primitive {
         positions,
         normals,
@@ -331,6 +395,8 @@ fn read_primitive(
         indexed,
         target_count: 0,
         morph: Vec::new(),
+        file_count: count,
+        rows,
     }))
 }
 
@@ -338,6 +404,7 @@ fn read_primitive(
 /// counting them against the caps.
 fn read_targets(
     src: Source,
+    shared: &mut SharedReads,
     prim_json: &gltf_json::mesh::Primitive,
     prim: &mut Primitive,
     label: &str,
@@ -352,21 +419,22 @@ fn read_targets(
             limit: MAX_MORPH_TARGETS as u64,
         });
     }
-    let count = prim.positions.len();
-    let mut rows: Vec<MorphRow> = vec![Vec::new(); count];
+    let count = prim.file_count;
+    let mut rows: Vec<MorphRow> = vec![Vec::new(); prim.positions.len()];
     for (t, target) in targets.iter().enumerate() {
-        let read = |accessor: Option<gltf_json::Index<gltf_json::Accessor>>, what: &str| {
+        let mut read = |accessor: Option<gltf_json::Index<gltf_json::Accessor>>, what: &str| {
             let Some(a) = accessor else { return Ok(None) };
             let usage = format!("{what} of {label} morph target {t}");
-            let e = read_floats(src, a.value(), &usage, &[Type::Vec3], MAX_VERTICES)?;
+            let e = shared.floats(src, a.value(), &usage, &[Type::Vec3], MAX_VERTICES)?;
             if e.count() != count {
                 return Err(prim_error(
                     label,
                     format!("morph target {t} {what} has {} elements but POSITION has {count}", e.count()),
                 ));
             }
-            let deltas = to_vec3(&e);
+            let deltas = to_vec3(&pick_rows(e, prim.rows.as_deref()));
             if let Some(v) = deltas.iter().position(|d| !d.is_finite()) {
+                let v = prim.file_vertex(v);
                 return Err(prim_error(
                     label,
                     format!("morph target {t} has a non-finite {what} at vertex {v}"),
@@ -430,6 +498,7 @@ fn resolve_influences(
     sets: &[(Elements<u32>, Elements<f32>)],
     remap: &[u16],
     label: &str,
+    file_vertex: &dyn Fn(usize) -> usize,
 ) -> Result<Influences, ImportError> {
     let count = sets.first().map_or(0, |(j, _)| j.count());
     let mut joints = Vec::with_capacity(count);
@@ -440,7 +509,7 @@ fn resolve_influences(
         for (js, ws) in sets {
             for (&j, &w) in js.get(v).iter().zip(ws.get(v)) {
                 if !w.is_finite() || w < 0.0 {
-                    return Err(prim_error(label, format!("vertex {v} has skin weight {w}")));
+                    return Err(prim_error(label, format!("vertex {} has skin weight {w}", file_vertex(v))));
                 }
                 if w == 0.0 {
                     continue;
@@ -448,7 +517,11 @@ fn resolve_influences(
                 let Some(&joint) = remap.get(j as usize) else {
                     return Err(prim_error(
                         label,
-                        format!("vertex {v} uses joint {j} but its skin has {} joints", remap.len()),
+                        format!(
+                            "vertex {} uses joint {j} but its skin has {} joints",
+                            file_vertex(v),
+                            remap.len()
+                        ),
                     ));
                 };
                 // The same joint listed twice (in two sets, or by a sloppy exporter) adds up.
@@ -463,7 +536,10 @@ fn resolve_influences(
         pairs.truncate(4);
         let total: f32 = pairs.iter().map(|p| p.1).sum();
         if !(total > 0.0 && total.is_finite()) {
-            return Err(prim_error(label, format!("vertex {v} has skin weights that are all zero")));
+            return Err(prim_error(
+                label,
+                format!("vertex {} has skin weights that are all zero", file_vertex(v)),
+            ));
         }
         let mut j4 = [0u16; 4];
         let mut w4 = [0f32; 4];
@@ -527,116 +603,6 @@ fn bind_rigid(
     }
     let n = prim.positions.len();
     Ok(Some(Influences { joints: vec![[joint, 0, 0, 0]; n], weights: vec![[1.0, 0.0, 0.0, 0.0]; n] }))
-}
-
-/// Merges corners that are bit-identical in every attribute (position, normal, uv, colour, joints,
-/// weights), keeping first occurrences in order. Non-indexed files store each triangle corner
-/// separately; welding makes the mesh connected for simplification.
-fn weld(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
-    let n = prim.positions.len();
-    let mut key_len = 3 + 4 + 4;
-    key_len += prim.normals.as_ref().map_or(0, |_| 3) + prim.uvs.as_ref().map_or(0, |_| 2);
-    key_len += prim.colors.as_ref().map_or(0, |_| 4);
-    // Keys have different lengths when morph rows do: key `v` is `keys[key_at[v]..key_at[v + 1]]`.
-    let mut keys: Vec<u32> = Vec::with_capacity(n * key_len);
-    let mut key_at = Vec::with_capacity(n + 1);
-    for v in 0..n {
-        key_at.push(keys.len());
-        keys.extend(prim.positions[v].to_array().map(f32::to_bits));
-        if let Some(normals) = &prim.normals {
-            keys.extend(normals[v].to_array().map(f32::to_bits));
-        }
-        if let Some(uvs) = &prim.uvs {
-            keys.extend(uvs[v].to_array().map(f32::to_bits));
-        }
-        if let Some(colors) = &prim.colors {
-            keys.extend(colors[v].to_array().map(f32::to_bits));
-        }
-        keys.extend(influences.joints[v].map(u32::from));
-        keys.extend(influences.weights[v].map(f32::to_bits));
-        // Corners with different morph deltas are different vertices.
-        for (t, dp, dn) in prim.morph.get(v).into_iter().flatten() {
-            keys.push(u32::from(*t));
-            keys.extend(dp.to_array().map(f32::to_bits));
-            keys.extend(dn.to_array().map(f32::to_bits));
-        }
-    }
-    key_at.push(keys.len());
-    let mut first: HashMap<&[u32], u32> = HashMap::with_capacity(n);
-    let mut kept: Vec<usize> = Vec::new();
-    let remap: Vec<u32> = key_at
-        .windows(2)
-        .map(|w| &keys[w[0]..w[1]])
-        .enumerate()
-        .map(|(v, key)| {
-            *first.entry(key).or_insert_with(|| {
-                kept.push(v);
-                (kept.len() - 1) as u32
-            })
-        })
-        .collect();
-    let pick = |values: &[Vec3]| kept.iter().map(|&v| values[v]).collect::<Vec<_>>();
-    let welded = Primitive {
-        positions: pick(&prim.positions),
-        normals: prim.normals.as_deref().map(pick),
-        uvs: prim.uvs.as_ref().map(|uvs| kept.iter().map(|&v| uvs[v]).collect()),
-        colors: prim.colors.as_ref().map(|c| kept.iter().map(|&v| c[v]).collect()),
-        influence_sets: Vec::new(),
-        indices: prim.indices.iter().map(|&i| remap[i as usize]).collect(),
-        indexed: true,
-        target_count: prim.target_count,
-        morph: if prim.morph.is_empty() {
-            Vec::new()
-        } else {
-            kept.iter().map(|&v| prim.morph[v].clone()).collect()
-        },
-    };
-    let influences = Influences {
-        joints: kept.iter().map(|&v| influences.joints[v]).collect(),
-        weights: kept.iter().map(|&v| influences.weights[v]).collect(),
-    };
-    (welded, influences)
-}
-
-/// A primitive without normals as the spec draws it (§3.7.2.1: "client implementations MUST
-/// calculate flat normals"): one corner per triangle corner, each with its face's normal, as an
-/// unindexed primitive that [`weld`] then merges wherever corners agree in everything (a flat
-/// quad keeps four vertices). The LOD build sees a flat-shaded mesh and keeps it faceted
-/// (`clod::shading`). A degenerate triangle's corners get the area-weighted vertex normals.
-fn flat_shaded(prim: Primitive, influences: Influences) -> (Primitive, Influences) {
-    let corners = &prim.indices;
-    let mut smooth: Option<Vec<Vec3>> = None;
-    let mut normals = Vec::with_capacity(corners.len());
-    for tri in corners.chunks_exact(3) {
-        let [a, b, c] = [0, 1, 2].map(|k| prim.positions[tri[k] as usize]);
-        let face = (b - a).cross(c - a).try_normalize();
-        for &v in tri {
-            let fallback =
-                || smooth.get_or_insert_with(|| compute_normals(&prim.positions, corners))[v as usize];
-            normals.push(face.unwrap_or_else(fallback));
-        }
-    }
-    let at = |v: &u32| *v as usize;
-    let flat = Primitive {
-        positions: corners.iter().map(|v| prim.positions[at(v)]).collect(),
-        normals: Some(normals),
-        uvs: prim.uvs.as_ref().map(|uvs| corners.iter().map(|v| uvs[at(v)]).collect()),
-        colors: prim.colors.as_ref().map(|c| corners.iter().map(|v| c[at(v)]).collect()),
-        influence_sets: Vec::new(),
-        indices: (0..corners.len() as u32).collect(),
-        indexed: false,
-        target_count: prim.target_count,
-        morph: if prim.morph.is_empty() {
-            Vec::new()
-        } else {
-            corners.iter().map(|v| prim.morph[at(v)].clone()).collect()
-        },
-    };
-    let influences = Influences {
-        joints: corners.iter().map(|v| influences.joints[at(v)]).collect(),
-        weights: corners.iter().map(|v| influences.weights[at(v)]).collect(),
-    };
-    (flat, influences)
 }
 
 /// Unit normals for a primitive: the file's, with zero-length ones (and missing ones) replaced by
@@ -738,7 +704,7 @@ mod tests {
         let weights1 = Elements { values: vec![0.5, 0.1, 0.0, 0.0], components: 4 };
         let remap = [10, 11, 12, 13, 14];
         let sets = [(joints, weights), (joints1, weights1)];
-        let r = resolve_influences(&sets, &remap, "p").unwrap();
+        let r = resolve_influences(&sets, &remap, "p", &|v| v).unwrap();
         // Joint 1 appears twice (0.4 + 0.1); joint 0 (0.1) is the fifth and is dropped.
         assert_eq!(r.joints, vec![[11, 14, 13, 12]]);
         let total = 0.5 + 0.5 + 0.3 + 0.2;
@@ -751,12 +717,12 @@ mod tests {
             Elements { values: vec![0, 99, 99, 99], components: 4 },
             Elements { values: vec![1.0, 0.0, 0.0, 0.0], components: 4 },
         )];
-        assert!(resolve_influences(&sets, &[3], "p").is_ok());
+        assert!(resolve_influences(&sets, &[3], "p", &|v| v).is_ok());
         let sets = [(
             Elements { values: vec![0, 99, 0, 0], components: 4 },
             Elements { values: vec![0.5, 0.5, 0.0, 0.0], components: 4 },
         )];
-        let err = resolve_influences(&sets, &[3], "mesh 0 primitive 0").err().unwrap().to_string();
+        let err = resolve_influences(&sets, &[3], "mesh 0 primitive 0", &|v| v).err().unwrap().to_string();
         assert!(err.contains("joint 99") && err.contains("mesh 0 primitive 0"), "{err}");
     }
 }
