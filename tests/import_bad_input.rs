@@ -135,6 +135,29 @@ fn strips_points_and_morph_targets() {
     assert_mentions(&c.warnings[0], &["primitive 1", "Points", "skipped"]);
 }
 
+/// Triangles without area draw nothing and would stop the simplifier early: they are left out
+/// with a warning, and a primitive of nothing else is skipped.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn triangles_without_area_are_left_out() {
+    let mut model = TinyModel::new();
+    let offset = model.bin.len();
+    model.bin.extend([0u16, 1, 2, 0, 0, 1, 2, 2, 2].iter().flat_map(|i| i.to_le_bytes()));
+    model.json["buffers"][0]["byteLength"] = Value::from(model.bin.len());
+    let view = format!(r#"{{"buffer": 0, "byteOffset": {offset}, "byteLength": 18}}"#);
+    model.json["bufferViews"].as_array_mut().unwrap().push(serde_json_value(&view));
+    let accessor = r#"{"bufferView": 7, "componentType": 5123, "count": 9, "type": "SCALAR"}"#;
+    model.json["accessors"].as_array_mut().unwrap().push(serde_json_value(accessor));
+    model.json["meshes"][0]["primitives"][0]["indices"] = Value::from(7);
+    let c = import(&model).unwrap();
+    assert_eq!(c.mesh.indices, vec![0, 1, 2]);
+    assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
+    assert_mentions(&c.warnings[0], &["primitive 0", "2 of its 3 triangles have no area", "left out"]);
+    // Vertex 2 on the line through 0 and 1: nothing is left to show.
+    model.put_f32s(tiny::POSITIONS + 24, &[2.0, 0.0, 0.0]);
+    assert_mentions(&error_of(&model), &["no triangle"]);
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn truncated_glb() {

@@ -2,7 +2,7 @@
 //! [`SkinnedMesh`] in bind space.
 //!
 //! Per primitive, in order: read and check the triangles (strips and fans become lists; points and
-//! lines are skipped) and the vertex attributes of the vertices they use (a primitive may index
+//! lines are skipped; triangles without area are left out with a warning) and the vertex attributes of the vertices they use (a primitive may index
 //! part of a vertex buffer that a whole mesh shares; such an accessor is decoded once, see
 //! [`SharedReads`]), resolve skin influences (the four largest of all
 //! JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by decreasing weight,
@@ -276,7 +276,7 @@ fn read_primitive(
     let file_positions =
         shared.floats(src, position_accessor, &usage("POSITION"), &[Type::Vec3], MAX_VERTICES)?;
     let count = file_positions.count();
-    let (mut indices, indexed) = match prim.indices {
+    let (indices, indexed) = match prim.indices {
         Some(a) => {
             let e = shared.uints(src, a.value(), &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
             if let Some(&i) = e.values.iter().find(|&&i| i as usize >= count) {
@@ -289,6 +289,19 @@ fn read_primitive(
     if indices.is_empty() {
         warnings.push(format!("{label} has no complete triangle; skipped"));
         return Ok(None);
+    }
+    let triangles = indices.len() / 3;
+    let mut indices = without_arealess_triangles(indices, &file_positions);
+    match triangles - indices.len() / 3 {
+        0 => {}
+        dropped if indices.is_empty() => {
+            warnings.push(format!("{label}: none of its {dropped} triangles has an area; skipped"));
+            return Ok(None);
+        }
+        dropped => warnings.push(format!(
+            "{label}: {dropped} of its {triangles} triangles have no area (a repeated corner, or three \
+             corners on a line) and are left out"
+        )),
     }
     let rows = if indexed { used_rows(&mut indices, count) } else { None };
     let file_vertex = |v: usize| rows.as_ref().map_or(v, |rows| rows[v] as usize);
@@ -493,6 +506,31 @@ fn triangle_list(mode: Mode, corners: &[u32]) -> Vec<u32> {
     }
 }
 
+/// Below this sine of a triangle's smallest angle (|cross| < this × longest edge²) a triangle
+/// has no area worth the name: its normal is rounding noise, and the simplifier, which never
+/// makes such a triangle, cannot move its corners without making or keeping one (its fold check
+/// refuses both), so a few of them stopped a whole chain early. They draw nothing; leaving them
+/// out changes no pixel. The simplifier's own threshold (`collapse/checks.rs`).
+const MIN_SIN_ANGLE: f32 = 1e-6;
+
+/// The triangles of `indices` that have an area (see [`MIN_SIN_ANGLE`]); a triangle with a
+/// non-finite corner stays, for the position check to name it.
+fn without_arealess_triangles(indices: Vec<u32>, positions: &Elements<f32>) -> Vec<u32> {
+    let at = |i: u32| Vec3::from_slice(positions.get(i as usize));
+    let has_area = |t: &[u32]| {
+        let [a, b, c] = [at(t[0]), at(t[1]), at(t[2])];
+        let longest = (b - a).length_squared().max((c - a).length_squared()).max((c - b).length_squared());
+        let cross = (b - a).cross(c - a).length();
+        // False for a non-finite corner, which keeps its triangle.
+        let no_area = cross <= MIN_SIN_ANGLE * longest;
+        !no_area
+    };
+    if indices.chunks_exact(3).all(has_area) {
+        return indices;
+    }
+    indices.chunks_exact(3).filter(|t| has_area(t)).flatten().copied().collect()
+}
+
 /// The four strongest influences of every vertex, in skeleton joint indices; see the module docs.
 fn resolve_influences(
     sets: &[(Elements<u32>, Elements<f32>)],
@@ -694,6 +732,22 @@ mod tests {
         assert_eq!(triangle_list(Mode::Triangles, &[0, 1, 2, 3]), vec![0, 1, 2]);
         // A restart: repeated corners make degenerate triangles that are dropped.
         assert_eq!(triangle_list(Mode::TriangleStrip, &[0, 1, 1, 2]), Vec::<u32>::new());
+    }
+
+    #[test]
+    fn triangles_without_area_are_left_out() {
+        let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1e-7, 0.0]];
+        let mut values: Vec<f32> = points.iter().flatten().copied().collect();
+        values.extend([f32::NAN, 0.0, 0.0]);
+        let positions = Elements { values, components: 3 };
+        let keep = |t: [u32; 3]| without_arealess_triangles(t.to_vec(), &positions) == t;
+        assert!(keep([0, 1, 2]));
+        assert!(!keep([0, 3, 1]), "three corners on a line");
+        assert!(!keep([0, 1, 4]), "a sliver: its smallest angle is 2e-7 rad");
+        assert!(!keep([0, 0, 1]) && !keep([2, 2, 2]), "repeated corners");
+        assert!(keep([0, 1, 5]), "a non-finite corner stays for the position check to name it");
+        let mixed = without_arealess_triangles(vec![0, 3, 1, 0, 1, 2, 1, 1, 2], &positions);
+        assert_eq!(mixed, vec![0, 1, 2]);
     }
 
     #[test]
