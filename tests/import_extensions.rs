@@ -53,6 +53,32 @@ fn add_accessor(
     accessors.len() - 1
 }
 
+/// `KHR_animation_pointer` animates other things than nodes (a material's colour, a light), and
+/// its channels name no node, which gltf-json cannot parse: those channels are dropped with a
+/// warning naming the animation, and the node channels still play.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn channels_that_target_no_node_are_dropped_and_the_rest_plays() {
+    let mut model = TinyModel::new();
+    model.json["extensionsUsed"] = Value::from(vec!["KHR_animation_pointer"]);
+    model.json["animations"][0]["name"] = Value::from("wave");
+    let pointer = r#"{"sampler": 0, "target": {"path": "pointer",
+        "extensions": {"KHR_animation_pointer": {"pointer": "/materials/0/emissiveFactor"}}}}"#;
+    let channels = model.json["animations"][0]["channels"].as_array_mut().unwrap();
+    channels.push(gltf_json::deserialize::from_str(pointer).unwrap());
+    let c = import(&model).expect("a file with pointer channels imports");
+    assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
+    assert!(
+        c.warnings[0].contains("KHR_animation_pointer") && c.warnings[0].contains("animation 0 ('wave'): 1")
+    );
+    let skinned = c.skinned_positions(&c.pose_at(&c.clips[0], 0.5));
+    assert_eq!(skinned[2], Vec3::new(0.5, 1.0, 0.0), "the node channel still moves `tip`");
+    // Another problem in the same file is still reported as itself.
+    model.json["animations"][0]["channels"][0]["target"]["path"] = Value::from("size");
+    let error = import(&model).err().unwrap().to_string();
+    assert!(error.contains("unknown target path"), "{error}");
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn quantized_attributes_and_a_uv_transform_import_exactly() {

@@ -183,11 +183,17 @@ pub fn from_bytes(
 
 /// Parses the JSON with `gltf-json` (the `gltf` crate's document model) and runs its validation (references in range, enums
 /// known, required fields present).
-fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
+/// Animation channels that target no node (`KHR_animation_pointer` animates materials, lights
+/// and cameras through a JSON pointer instead) are dropped with a warning.
+fn parse_document(json: &[u8], warnings: &mut Vec<String>) -> Result<gltf_json::Root, ImportError> {
     // A UTF-8 byte order mark is not JSON, but some tools write one.
     let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
-    let root: gltf_json::Root =
-        gltf_json::deserialize::from_slice(json).map_err(|e| ImportError::Json(e.to_string()))?;
+    let root: gltf_json::Root = match gltf_json::deserialize::from_slice(json) {
+        Ok(root) => root,
+        Err(error) => {
+            without_nodeless_channels(json, warnings).ok_or_else(|| ImportError::Json(error.to_string()))?
+        }
+    };
     if let Some(error) = first_unreadable(&root.extensions_required) {
         return Err(error);
     }
@@ -243,16 +249,43 @@ fn parse_document(json: &[u8]) -> Result<gltf_json::Root, ImportError> {
     }
 }
 
+/// The document without its animation channels that target no node, when it has such channels
+/// and parses without them (gltf-json requires `target.node`, which `KHR_animation_pointer`
+/// leaves out); `None` otherwise, so that the first parse error is the one reported.
+fn without_nodeless_channels(json: &[u8], warnings: &mut Vec<String>) -> Option<gltf_json::Root> {
+    let mut document: gltf_json::Value = gltf_json::deserialize::from_slice(json).ok()?;
+    let mut dropped = Vec::new();
+    for (a, animation) in document.get_mut("animations")?.as_array_mut()?.iter_mut().enumerate() {
+        let name = animation.get("name").and_then(|n| n.as_str()).map(|n| format!(" ('{n}')"));
+        let Some(channels) = animation.get_mut("channels").and_then(|c| c.as_array_mut()) else { continue };
+        let before = channels.len();
+        channels.retain(|channel| channel.get("target").is_none_or(|target| target.get("node").is_some()));
+        if channels.len() < before {
+            dropped.push(format!("animation {a}{}: {}", name.unwrap_or_default(), before - channels.len()));
+        }
+    }
+    if dropped.is_empty() {
+        return None;
+    }
+    let root = gltf_json::deserialize::from_value(document).ok()?;
+    warnings.push(format!(
+        "animation channels that target no node (KHR_animation_pointer: materials, lights, cameras) are \
+         dropped: {}",
+        dropped.join(", ")
+    ));
+    Some(root)
+}
+
 /// The whole pipeline; see the module docs.
 fn import(
     json: &[u8],
     bin: Option<&[u8]>,
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
 ) -> Result<Character, ImportError> {
-    let root = parse_document(json)?;
+    let mut warnings = Vec::new();
+    let root = parse_document(json, &mut warnings)?;
     let buffers = container::load_buffers(&root, bin, resolve)?;
     let src = Source { root: &root, buffers: &buffers };
-    let mut warnings = Vec::new();
 
     let graph = scene::SceneGraph::new(&root)?;
     let (mut skeleton, slots) = graph.skeleton(&root)?;
