@@ -135,6 +135,23 @@ fn strips_points_and_morph_targets() {
     assert_mentions(&c.warnings[0], &["primitive 1", "Points", "skipped"]);
 }
 
+/// With no scene marked as the default and nothing in scene 0, the first scene with a mesh is
+/// shown, with a warning; a marked empty scene is still an error.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn an_empty_first_scene_gives_way_when_none_is_marked() {
+    let mut model = TinyModel::new();
+    model.json.as_object_mut().unwrap().remove("scene");
+    let scenes = serde_json_value(r#"[{"nodes": []}, {"name": "props", "nodes": []}, {"nodes": [0, 2]}]"#);
+    model.json["scenes"] = scenes;
+    let c = import(&model).unwrap();
+    assert_eq!(c.mesh.indices, vec![0, 1, 2]);
+    assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
+    assert_mentions(&c.warnings[0], &["scene 0 has no mesh", "scene 2 is shown"]);
+    model.json["scene"] = Value::from(0);
+    assert_mentions(&error_of(&model), &["no triangle"]);
+}
+
 /// Triangles without area draw nothing and would stop the simplifier early: they are left out
 /// with a warning, and a primitive of nothing else is skipped.
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

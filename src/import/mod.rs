@@ -288,6 +288,10 @@ fn import(
     let src = Source { root: &root, buffers: &buffers };
 
     let graph = scene::SceneGraph::new(&root)?;
+    if let Some(s) = graph.chosen_scene {
+        warnings
+            .push(format!("scene 0 has no mesh and no scene is marked as the default: scene {s} is shown"));
+    }
     let (mut skeleton, slots) = graph.skeleton(&root)?;
     let mut morph = geometry::MorphIndex::default();
     let mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut morph, &mut warnings)?;

@@ -42,6 +42,46 @@ pub(crate) struct SceneGraph {
     parent: Vec<Option<usize>>,
     /// Mesh nodes of the default scene, in depth-first order from its root nodes.
     pub instances: Vec<MeshInstance>,
+    /// The scene shown instead of scene 0 when no scene is marked as the default and scene 0
+    /// has no mesh.
+    pub chosen_scene: Option<usize>,
+}
+
+/// The mesh nodes under `roots`, depth first; checks the hierarchy below them (see
+/// [`SceneGraph::new`]).
+fn mesh_instances(
+    root: &Root,
+    parent: &[Option<usize>],
+    roots: &[usize],
+) -> Result<Vec<MeshInstance>, ImportError> {
+    let n = root.nodes.len();
+    let mut visited = vec![false; n];
+    let mut instances = Vec::new();
+    let mut stack = Vec::new();
+    for &r in roots.iter().rev() {
+        if r >= n {
+            return Err(ImportError::Invalid(format!("the scene lists node {r} but there are {n} nodes")));
+        }
+        stack.push(r);
+    }
+    while let Some(i) = stack.pop() {
+        if visited[i] {
+            // A scene root listed twice, or a root that is also another root's descendant.
+            if roots.contains(&i) && parent[i].is_none() {
+                continue;
+            }
+            return Err(node_error(root, i, "is reached twice (cycle in the node hierarchy)"));
+        }
+        visited[i] = true;
+        let node = &root.nodes[i];
+        if let Some(mesh) = node.mesh {
+            instances.push(MeshInstance { node: i, mesh: mesh.value(), skin: node.skin.map(|s| s.value()) });
+        }
+        for child in node.children.iter().flatten().rev() {
+            stack.push(child.value());
+        }
+    }
+    Ok(instances)
 }
 
 impl SceneGraph {
@@ -73,39 +113,21 @@ impl SceneGraph {
             _ if root.scenes.is_empty() => (0..n).filter(|&i| parent[i].is_none()).collect(),
             s => return Err(ImportError::Invalid(format!("default scene {s} does not exist"))),
         };
-        let mut visited = vec![false; n];
-        let mut instances = Vec::new();
-        let mut stack = Vec::new();
-        for &r in roots.iter().rev() {
-            if r >= n {
-                return Err(ImportError::Invalid(format!(
-                    "the scene lists node {r} but there are {n} nodes"
-                )));
-            }
-            stack.push(r);
-        }
-        while let Some(i) = stack.pop() {
-            if visited[i] {
-                // A scene root listed twice, or a root that is also another root's descendant.
-                if roots.contains(&i) && parent[i].is_none() {
-                    continue;
+        let mut instances = mesh_instances(root, &parent, &roots)?;
+        // No scene is marked and scene 0 shows nothing: the spec leaves the choice to the viewer,
+        // and a later scene with meshes is what the file has to show.
+        let mut chosen_scene = None;
+        if root.scene.is_none() && instances.is_empty() {
+            for (s, scene) in root.scenes.iter().enumerate().skip(1) {
+                let roots: Vec<usize> = scene.nodes.iter().map(|i| i.value()).collect();
+                instances = mesh_instances(root, &parent, &roots)?;
+                if !instances.is_empty() {
+                    chosen_scene = Some(s);
+                    break;
                 }
-                return Err(node_error(root, i, "is reached twice (cycle in the node hierarchy)"));
-            }
-            visited[i] = true;
-            let node = &root.nodes[i];
-            if let Some(mesh) = node.mesh {
-                instances.push(MeshInstance {
-                    node: i,
-                    mesh: mesh.value(),
-                    skin: node.skin.map(|s| s.value()),
-                });
-            }
-            for child in node.children.iter().flatten().rev() {
-                stack.push(child.value());
             }
         }
-        Ok(Self { parent, instances })
+        Ok(Self { parent, instances, chosen_scene })
     }
 
     /// The skeleton nodes (see the module docs) with their rest transforms, and for every glTF
