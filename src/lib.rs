@@ -36,6 +36,7 @@ pub mod render;
 pub mod simplify;
 pub mod skeleton;
 pub mod skinning;
+pub mod twins;
 pub mod vertex_cache;
 
 #[cfg(feature = "js")]

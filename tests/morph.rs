@@ -170,6 +170,45 @@ fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
     );
 }
 
+/// One mesh on two nodes at the same place lies on itself: the import keeps both copies, the
+/// LOD build keeps their vertices apart and simplifies each as a surface of its own
+/// (`clod_viewer::twins`), so the doubled grid goes down to twice the single grid's coarsest
+/// level instead of staying whole.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_mesh_drawn_twice_simplifies_copy_by_copy() {
+    // On a second node (its own rigid joint), and as a second primitive of the same mesh (the
+    // same joint, as one skin drawn by two nodes has: the copies' vertices agree in everything).
+    let mut on_two_nodes: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    let twin = on_two_nodes["nodes"][0].clone();
+    on_two_nodes["nodes"].as_array_mut().unwrap().push(twin);
+    on_two_nodes["scenes"][0]["nodes"] = gltf_json::Value::from(vec![0, 1]);
+    let mut two_primitives: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    let twin = two_primitives["meshes"][0]["primitives"][0].clone();
+    two_primitives["meshes"][0]["primitives"].as_array_mut().unwrap().push(twin);
+    for (json, mode) in [
+        (&on_two_nodes, CollapseMode::Full),
+        (&two_primitives, CollapseMode::Full),
+        (&two_primitives, CollapseMode::HalfEdge),
+    ] {
+        let twice = from_gltf(&gltf_json::serialize::to_vec(json).unwrap(), &mut |_| None).unwrap();
+        assert_eq!(twice.mesh.triangle_count(), 16);
+        let once = chain(&grid(), mode);
+        let levels = once.levels.iter().map(|l| 2 * l.triangle_count()).collect();
+        let options = ClodOptions { level_triangles: Some(levels), ..chain_options(mode) };
+        let twice = clod::build(&twice, &options, &mut |_| {}).unwrap();
+        let counts = |c: &Clod| c.levels.iter().map(|l| l.triangle_count()).collect::<Vec<_>>();
+        assert_eq!(counts(&twice), counts(&once).iter().map(|n| 2 * n).collect::<Vec<_>>(), "{mode:?}");
+        let error = |c: &Clod| c.levels.last().unwrap().error;
+        assert!(
+            error(&twice) <= 1.001 * error(&once),
+            "{mode:?}: {} against {}",
+            error(&twice),
+            error(&once)
+        );
+    }
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn targets_deltas_and_default_weights_import_exactly() {
@@ -249,15 +288,18 @@ fn clips_sample_weights_in_every_interpolation_and_cpu_skinning_applies_them() {
     assert!(rest.iter().zip(&c.mesh.positions).all(|(a, b)| close(*a, *b)));
 }
 
-fn chain(c: &Character, mode: CollapseMode) -> Clod {
-    let options = ClodOptions {
+fn chain_options(mode: CollapseMode) -> ClodOptions {
+    ClodOptions {
         pose: SimplificationPose::Bind,
         level_triangles: Some(vec![8, 4, 2]),
         mode,
         max_error: f32::INFINITY,
         ..ClodOptions::default()
-    };
-    clod::build(c, &options, &mut |_| {}).expect("the grid simplifies")
+    }
+}
+
+fn chain(c: &Character, mode: CollapseMode) -> Clod {
+    clod::build(c, &chain_options(mode), &mut |_| {}).expect("the grid simplifies")
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

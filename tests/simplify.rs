@@ -6,7 +6,7 @@ use clod_viewer::simplify::{
     simplify, CollapseMode, Quadric, Schedule, SimplifyError, SimplifyOptions, StopReason,
 };
 use glam::{DVec3, Vec3};
-use meshgen::{check_cursor, check_invariants, grid, Mesh};
+use meshgen::{check_cursor, check_invariants, grid, spread_levels, Mesh};
 use std::collections::HashSet;
 
 fn options(mode: CollapseMode, target: usize) -> SimplifyOptions {
@@ -605,4 +605,31 @@ fn progress_rises_to_the_target_about_fifty_times_and_changes_nothing() {
         "{reports:?}"
     );
     assert_eq!(pm, mesh.simplify(&options), "progress reporting changed the result");
+}
+
+/// A surface drawn twice (one mesh on two nodes) or doubled by a reversed copy (a double-sided
+/// card) puts four triangles on every edge. Each copy is simplified as a surface of its own
+/// (`clod_viewer::twins`): twice the triangles reach the single surface's error, where the copies
+/// used to keep every edge, and with them the whole mesh, at full detail.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_doubled_surface_simplifies_like_the_single_one() {
+    let single = grid(8, 8, |i, j| ((i * 7 + j * 3) % 5) as f32 * 0.1);
+    let n = single.positions.len() as u32;
+    let single_pm = single.simplify(&options(CollapseMode::Full, 16));
+    let single_error = single_pm.error_after(single_pm.collapse_count());
+    for reversed in [false, true] {
+        let mut doubled = single.clone();
+        doubled.positions.extend_from_within(..);
+        for t in single.indices.chunks_exact(3) {
+            let copy = if reversed { [t[0], t[2], t[1]] } else { [t[0], t[1], t[2]] };
+            doubled.indices.extend(copy.map(|v| v + n));
+        }
+        let pm = doubled.simplify(&options(CollapseMode::Full, 32));
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 32, "reversed {reversed}: stopped at {:?}", pm.stop);
+        let error = pm.error_after(k);
+        assert!(error <= 1.05 * single_error, "reversed {reversed}: error {error} against {single_error}");
+        check_invariants(&doubled, &pm, &spread_levels(&pm, 6), false);
+    }
 }

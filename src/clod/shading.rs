@@ -34,6 +34,7 @@ use glam::Vec3;
 
 use crate::mesh::SkinnedMesh;
 use crate::morph::MorphDeltas;
+use crate::twins::{position_ids, triangle_layers, vertex_layers};
 
 /// A normal within 2° of its face's normal is that face's normal: exporters quantise normals
 /// (8-bit normalised components are off by up to about 0.5°) and face normals recomputed from f32
@@ -153,9 +154,17 @@ impl ShadingWeld {
             key
         };
         let skin = |v: u32| (mesh.joints[v as usize], mesh.weights[v as usize]);
+        // A copy of a triangle (a mesh drawn twice, a sheet doubled by a reversed copy) keeps its
+        // own vertices, so that the simplifier can layer it apart (`crate::twins`).
+        let ids = position_ids(&mesh.positions);
+        let layers =
+            triangle_layers(|v| ids[v as usize], &mesh.indices).map(|t| vertex_layers(&t, &mesh.indices, n));
+        let same_layer = |a: u32, b: u32| layers.as_ref().is_none_or(|l| l[a as usize] == l[b as usize]);
         let alike = |a: u32, b: u32| {
             let flat_candidate = candidate[a as usize];
-            same_skin(skin(a), skin(b)) && same_morph(&mesh.morph, a as usize, b as usize, !flat_candidate)
+            same_layer(a, b)
+                && same_skin(skin(a), skin(b))
+                && same_morph(&mesh.morph, a as usize, b as usize, !flat_candidate)
         };
         // (x, y, z, vertex) packed in one integer, which sorts several times faster than a tuple.
         let mut by_position: Vec<u128> = (0..n)

@@ -294,7 +294,8 @@ fn import(
     }
     let (mut skeleton, slots) = graph.skeleton(&root)?;
     let mut morph = geometry::MorphIndex::default();
-    let mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut morph, &mut warnings)?;
+    let mut mesh = geometry::merge_meshes(src, &graph, &slots, &mut skeleton, &mut morph, &mut warnings)?;
+    crate::twins::unshare_layers(&mut mesh, MAX_VERTICES);
     let clips = clips::read_clips(src, &slots, &morph.by_node, &mut warnings)?;
     let materials = material::read_materials(src, resolve, &mut warnings)?;
     Ok(Character { mesh, skeleton, clips, materials, morph_targets: morph.targets, warnings })

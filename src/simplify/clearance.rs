@@ -96,7 +96,7 @@ impl<'a> Clearance<'a> {
             }
         }
         let index = self.index.get_or_init(|| {
-            let class_part = parts(&classes.class_of, self.indices, classes.count());
+            let class_part = parts(classes, self.indices);
             let grid = Grid::new(self.positions, self.indices, |v| {
                 class_part[classes.class_of[v as usize] as usize]
             });
@@ -126,7 +126,9 @@ impl<'a> Clearance<'a> {
 }
 
 /// Per class, the lowest class of its connected component (union–find over the triangles).
-fn parts(class_of: &[u32], indices: &[u32], class_count: usize) -> Vec<u32> {
+/// Classes at one position are one part even when they are layered (`topology::twin_layers`): a
+/// copy of a part lying on it is not something else for it to vanish onto.
+fn parts(classes: &PositionClasses, indices: &[u32]) -> Vec<u32> {
     fn root(parent: &mut [u32], mut c: u32) -> u32 {
         while parent[c as usize] != c {
             let up = parent[parent[c as usize] as usize];
@@ -135,13 +137,19 @@ fn parts(class_of: &[u32], indices: &[u32], class_count: usize) -> Vec<u32> {
         }
         c
     }
+    let (class_of, class_count) = (&classes.class_of, classes.count());
     let mut parent: Vec<u32> = (0..class_count as u32).collect();
+    let mut join = |a: u32, b: u32| {
+        let (a, b) = (root(&mut parent, a), root(&mut parent, b));
+        parent[a.max(b) as usize] = a.min(b);
+    };
     for t in indices.chunks_exact(3) {
         for &k in &t[1..] {
-            let (a, b) =
-                (root(&mut parent, class_of[t[0] as usize]), root(&mut parent, class_of[k as usize]));
-            parent[a.max(b) as usize] = a.min(b);
+            join(class_of[t[0] as usize], class_of[k as usize]);
         }
+    }
+    for (c, &at) in classes.same_position.iter().flatten().enumerate() {
+        join(c as u32, at);
     }
     (0..class_count as u32).map(|c| root(&mut parent, c)).collect()
 }
@@ -302,7 +310,7 @@ mod tests {
         class: u32,
         q: Vec3,
     ) -> Option<f32> {
-        let part = parts(&classes.class_of, indices, classes.count());
+        let part = parts(classes, indices);
         let part_of = |v: u32| part[classes.class_of[v as usize] as usize];
         let best = indices
             .chunks_exact(3)
@@ -398,10 +406,22 @@ mod tests {
         let indices = [0, 3, 1, 2, 1, 4, 6, 7, 8];
         let classes = position_classes(&positions, &indices);
         assert_eq!(classes.class_of[9], NONE);
-        let part = parts(&classes.class_of, &indices, classes.count());
+        let part = parts(&classes, &indices);
         let of = |v: usize| part[classes.class_of[v] as usize];
         assert_eq!([0, 1, 2, 3, 4].map(of), [of(0); 5]);
         assert_eq!([6, 7, 8].map(of), [of(6); 3]);
         assert_ne!(of(0), of(6));
+    }
+
+    #[test]
+    fn a_copy_lying_on_a_part_is_no_other_part() {
+        // Triangle 0 1 2 and its reversed copy on vertices 3 4 5: two layers of classes, one part.
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::X, Vec3::Y];
+        let indices = [0, 1, 2, 3, 5, 4];
+        let classes = position_classes(&positions, &indices);
+        assert_eq!(classes.count(), 6, "the copy is layered apart");
+        assert_eq!(parts(&classes, &indices), [0; 6]);
+        let clearance = Clearance::new(&positions, &indices);
+        assert_eq!(clearance.squared_to_other_parts(&classes, classes.class_of[3], Vec3::ZERO), None);
     }
 }

@@ -34,6 +34,8 @@
 
 use glam::Vec3;
 
+use crate::twins::{triangle_layers, vertex_layers};
+
 pub(crate) use crate::progressive::NONE;
 
 /// The role of a position class; see the module docs.
@@ -109,6 +111,9 @@ pub(crate) struct PositionClasses {
     pub wedges: Vec<u32>,
     /// Lowest vertex index of each class (its position is the class's position).
     pub representative: Vec<u32>,
+    /// When triangles repeat each other and classes are layered ([`crate::twins`]): per class,
+    /// the lowest class at its position.
+    pub same_position: Option<Vec<u32>>,
 }
 
 impl PositionClasses {
@@ -122,9 +127,36 @@ impl PositionClasses {
     }
 }
 
-/// Groups the referenced vertices by bit-identical position. Class ids follow the order of each
-/// class's lowest vertex index, so the result does not depend on sorting details.
+/// Groups the referenced vertices by bit-identical position, and by *layer* where triangles
+/// repeat each other ([`crate::twins`]: each copy of a repeated surface simplifies on its own). Class ids follow the order of each class's lowest
+/// vertex index, so the result does not depend on sorting details.
 pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionClasses {
+    let plain = weld(positions, indices, None);
+    match triangle_layers(|v| plain.class_of[v as usize], indices) {
+        None => plain,
+        Some(triangle_layer) => {
+            let layer = vertex_layers(&triangle_layer, indices, positions.len());
+            let mut layered = weld(positions, indices, Some(&layer));
+            // Per layered class, the plain class of its position, as the lowest layered class
+            // there: class ids follow lowest vertices in both weldings.
+            let mut first_at = vec![NONE; plain.count()];
+            let same_position = (0..layered.count())
+                .map(|c| {
+                    let at = &mut first_at[plain.class_of[layered.representative[c] as usize] as usize];
+                    if *at == NONE {
+                        *at = c as u32;
+                    }
+                    *at
+                })
+                .collect();
+            layered.same_position = Some(same_position);
+            layered
+        }
+    }
+}
+
+/// The welding of [`position_classes`]: by position, and within a position by `layer` if given.
+fn weld(positions: &[Vec3], indices: &[u32], layer: Option<&[u32]>) -> PositionClasses {
     // (x, y, z, vertex) as one integer, which sorts several times faster than a tuple. +0.0 and
     // −0.0 are the same point; every other value compares by its bits.
     let key = |v: u32| {
@@ -139,11 +171,27 @@ pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionC
     let mut order: Vec<u128> =
         (0..positions.len() as u32).filter(|&v| referenced[v as usize]).map(key).collect();
     order.sort_unstable();
-    // Lowest vertex of each run of equal positions (the sort puts it first).
+    // Lowest vertex of each run of equal positions (the sort puts it first), or of each layer
+    // within the run (a run holds a handful of layers at most).
     let mut lowest = vec![NONE; positions.len()];
+    let mut layer_lowest: Vec<(u32, u32)> = Vec::new();
     for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
+        layer_lowest.clear();
         for &packed in run {
-            lowest[packed as u32 as usize] = run[0] as u32;
+            let v = packed as u32;
+            lowest[v as usize] = match layer {
+                None => run[0] as u32,
+                Some(layer) => {
+                    let l = layer[v as usize];
+                    match layer_lowest.iter().find(|&&(of, _)| of == l) {
+                        Some(&(_, low)) => low,
+                        None => {
+                            layer_lowest.push((l, v));
+                            v
+                        }
+                    }
+                }
+            };
         }
     }
     let mut class_of = vec![NONE; positions.len()];
@@ -177,7 +225,7 @@ pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionC
             fill[c as usize] += 1;
         }
     }
-    PositionClasses { class_of, wedge_start, wedges, representative }
+    PositionClasses { class_of, wedge_start, wedges, representative, same_position: None }
 }
 
 /// For every class, a linked list of the corners (`3 × triangle + k`) at that class. Flat

@@ -1,0 +1,202 @@
+//! Twin triangles: triangles on the same three positions as another, and the *layers* that keep
+//! each copy a surface of its own.
+//!
+//! Files repeat triangles on purpose: a mesh drawn by two nodes lies on itself, and a
+//! double-sided card (hair, cloth, leaves) is often a sheet plus a reversed copy of it, so that a
+//! back-face-culled material shows it from both sides. Welded by position, such copies put four
+//! triangles on every edge, which no edge collapse may touch: the whole copy stayed at full
+//! detail, and the rest of the mesh paid for every level's triangle count. Numbered instead by
+//! how many earlier triangles (in index order) lie on the same positions, the `k`-th is in layer
+//! `k`, and welding vertices only within a layer lets each copy simplify like the original.
+//!
+//! Positions compare bit for bit, with −0.0 the same as +0.0, as everywhere the mesh is welded.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::mesh::SkinnedMesh;
+
+/// "No layer yet" in [`vertex_layers`]' scratch.
+const UNSEEN: u32 = u32::MAX;
+
+/// Per vertex, the lowest vertex with a bit-identical position (−0.0 = +0.0).
+pub fn position_ids(positions: &[Vec3]) -> Vec<u32> {
+    let bits = |x: f32| u128::from(if x == 0.0 { 0 } else { x.to_bits() });
+    let mut order: Vec<u128> = positions
+        .iter()
+        .enumerate()
+        .map(|(v, p)| (bits(p.x) << 96) | (bits(p.y) << 64) | (bits(p.z) << 32) | v as u128)
+        .collect();
+    order.sort_unstable();
+    let mut id = vec![0u32; positions.len()];
+    for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
+        for &packed in run {
+            id[packed as u32 as usize] = run[0] as u32;
+        }
+    }
+    id
+}
+
+/// Per triangle, its layer: how many earlier triangles lie on the same three positions
+/// (`position_of` maps a vertex to an id equal for equal positions). `None` when no triangle
+/// repeats another, the common case.
+pub fn triangle_layers(position_of: impl Fn(u32) -> u32, indices: &[u32]) -> Option<Vec<u32>> {
+    let mut keys: Vec<u128> = indices
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(t, c)| {
+            let mut k = [c[0], c[1], c[2]].map(|v| u128::from(position_of(v)));
+            k.sort_unstable();
+            (k[0] << 96) | (k[1] << 64) | (k[2] << 32) | t as u128
+        })
+        .collect();
+    keys.sort_unstable();
+    if !keys.windows(2).any(|w| w[0] >> 32 == w[1] >> 32) {
+        return None;
+    }
+    let mut layer = vec![0u32; indices.len() / 3];
+    for run in keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+        for (k, &key) in run.iter().enumerate() {
+            layer[key as u32 as usize] = k as u32;
+        }
+    }
+    Some(layer)
+}
+
+/// Per vertex, the layer of the triangles that use it: 0 for a vertex used in two layers (a copy
+/// that shares the original's vertices, see [`unshare_layers`]) or by none.
+pub fn vertex_layers(triangle_layers: &[u32], indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    let mut layer = vec![UNSEEN; vertex_count];
+    for (corners, &t) in indices.chunks_exact(3).zip(triangle_layers) {
+        for &v in corners {
+            let l = &mut layer[v as usize];
+            *l = if *l == UNSEEN || *l == t { t } else { 0 };
+        }
+    }
+    layer.iter_mut().filter(|l| **l == UNSEEN).for_each(|l| *l = 0);
+    layer
+}
+
+/// Gives the corners of a twin triangle their own vertices where they share one with a
+/// triangle of another layer (a reversed copy written over the original's vertices), copying
+/// every attribute; the mesh draws the same. Returns the number of vertices added: none when
+/// no triangle repeats another, or when the copies would take the mesh past `max_vertices`.
+pub fn unshare_layers(mesh: &mut SkinnedMesh, max_vertices: usize) -> usize {
+    let ids = position_ids(&mesh.positions);
+    let Some(triangle_layer) = triangle_layers(|v| ids[v as usize], &mesh.indices) else { return 0 };
+    // The first layer to use each vertex keeps it; another layer gets one copy per vertex.
+    let mut owner = vec![UNSEEN; mesh.vertex_count()];
+    let mut copies: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut remapped = mesh.indices.clone();
+    let mut sources = Vec::new();
+    for (t, &layer) in triangle_layer.iter().enumerate() {
+        for corner in &mut remapped[3 * t..3 * t + 3] {
+            let v = *corner;
+            let o = &mut owner[v as usize];
+            if *o == UNSEEN {
+                *o = layer;
+            } else if *o != layer {
+                let next = (mesh.vertex_count() + sources.len()) as u32;
+                *corner = *copies.entry((v, layer)).or_insert_with(|| {
+                    sources.push(v as usize);
+                    next
+                });
+            }
+        }
+    }
+    if sources.is_empty() || mesh.vertex_count() + sources.len() > max_vertices {
+        return 0;
+    }
+    mesh.indices = remapped;
+    copy_rows(&mut mesh.positions, &sources);
+    copy_rows(&mut mesh.normals, &sources);
+    copy_rows(&mut mesh.joints, &sources);
+    copy_rows(&mut mesh.weights, &sources);
+    if let Some(uvs) = &mut mesh.uvs {
+        copy_rows(uvs, &sources);
+    }
+    if let Some(colors) = &mut mesh.colors {
+        copy_rows(colors, &sources);
+    }
+    if !mesh.morph.is_empty() {
+        for &v in &sources {
+            let row: Vec<_> = mesh.morph.of(v).collect();
+            mesh.morph.push_row(row);
+        }
+    }
+    sources.len()
+}
+
+/// Appends a copy of `values[v]` for every `v` of `sources`.
+fn copy_rows<T: Copy>(values: &mut Vec<T>, sources: &[usize]) {
+    values.reserve(sources.len());
+    for &v in sources {
+        values.push(values[v]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec2, Vec4};
+
+    /// A unit quad (two triangles) and, on the same four vertices, its reversed copy.
+    fn quad_with_shared_back() -> SkinnedMesh {
+        SkinnedMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            normals: vec![Vec3::Z; 4],
+            uvs: Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]),
+            colors: Some(vec![Vec4::ONE; 4]),
+            joints: vec![[0, 1, 0, 0]; 4],
+            weights: vec![[0.75, 0.25, 0.0, 0.0]; 4],
+            indices: vec![0, 1, 2, 0, 2, 3, 0, 2, 1, 0, 3, 2],
+            ..SkinnedMesh::default()
+        }
+    }
+
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    fn copies_are_numbered_in_index_order() {
+        // Vertex 4 lies on vertex 0: the third triangle repeats the first, reversed, and the
+        // fourth repeats the first again.
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, Vec3::ZERO];
+        let ids = position_ids(&positions);
+        assert_eq!(ids, [0, 1, 2, 3, 0]);
+        let indices = [0, 1, 2, 0, 1, 3, 4, 2, 1, 1, 2, 0];
+        let layers = triangle_layers(|v| ids[v as usize], &indices).unwrap();
+        assert_eq!(layers, [0, 0, 1, 2]);
+        // Vertex 4 only in layer 1; 1 and 2 in three layers, 0 in two and 3 in one: layer 0.
+        assert_eq!(vertex_layers(&layers, &indices, 6), [0, 0, 0, 0, 1, 0]);
+        assert_eq!(triangle_layers(|v| v, &[0, 1, 2, 0, 2, 3]), None);
+        // −0.0 is +0.0.
+        assert_eq!(position_ids(&[Vec3::ZERO, Vec3::new(-0.0, 0.0, -0.0)]), [0, 0]);
+    }
+
+    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    fn a_copy_on_shared_vertices_gets_its_own() {
+        let mut mesh = quad_with_shared_back();
+        mesh.morph.push_row([(0, Vec3::Z, Vec3::ZERO)]);
+        for _ in 1..4 {
+            mesh.morph.push_row([]);
+        }
+        let before = mesh.clone();
+        assert_eq!(unshare_layers(&mut mesh, 100), 4);
+        assert_eq!(mesh.indices, [0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 7, 5]);
+        // Each copy has every attribute of its source, so the mesh draws the same.
+        let source = [0, 1, 2, 3, 0, 2, 1, 3];
+        for (v, &s) in source.iter().enumerate() {
+            assert_eq!(mesh.positions[v], before.positions[s]);
+            assert_eq!(mesh.uvs.as_ref().unwrap()[v], before.uvs.as_ref().unwrap()[s]);
+            assert_eq!((mesh.joints[v], mesh.weights[v]), (before.joints[s], before.weights[s]));
+            assert_eq!(mesh.morph.of(v).collect::<Vec<_>>(), before.morph.of(s).collect::<Vec<_>>());
+        }
+        assert_eq!(mesh.colors.as_ref().map(Vec::len), Some(8));
+        // Nothing left to unshare; and a cap that the copies would pass leaves the mesh alone.
+        assert_eq!(unshare_layers(&mut mesh, 100), 0);
+        let mut capped = before.clone();
+        assert_eq!(unshare_layers(&mut capped, 7), 0);
+        assert_eq!(capped, before);
+    }
+}
