@@ -170,9 +170,10 @@ fn triangles_without_area_are_left_out() {
     assert_eq!(c.mesh.indices, vec![0, 1, 2]);
     assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
     assert_mentions(&c.warnings[0], &["primitive 0", "2 of its 3 triangles have no area", "left out"]);
-    // Vertex 2 on the line through 0 and 1: nothing is left to show.
+    // Vertex 2 on the line through 0 and 1: nothing is left to show, and the message says why.
     model.put_f32s(tiny::POSITIONS + 24, &[2.0, 0.0, 0.0]);
-    assert_mentions(&error_of(&model), &["no triangle"]);
+    let message = error_of(&model);
+    assert_mentions(&message, &["no triangle meshes to show", "primitive 0 has no triangle with an area"]);
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -126,6 +126,7 @@ pub(crate) fn merge_meshes(
     let mut table = JointTable::default();
     let mut out = SkinnedMesh::default();
     let mut warned_meshes = HashSet::new();
+    let warnings_before = warnings.len();
     let mut shared =
         SharedReads::new(graph.instances.iter().flat_map(|inst| vertex_reads(src.root, inst.mesh)));
     for inst in &graph.instances {
@@ -191,7 +192,7 @@ pub(crate) fn merge_meshes(
         }
     }
     if out.indices.is_empty() {
-        return Err(ImportError::NoTriangles);
+        return Err(ImportError::NoTriangles { skipped: warnings[warnings_before..].to_vec() });
     }
     if !out.morph.is_empty() {
         while out.morph.row_count() < out.positions.len() {
@@ -294,8 +295,8 @@ fn read_primitive(
     let mut indices = without_arealess_triangles(indices, &file_positions);
     match triangles - indices.len() / 3 {
         0 => {}
-        dropped if indices.is_empty() => {
-            warnings.push(format!("{label}: none of its {dropped} triangles has an area; skipped"));
+        _ if indices.is_empty() => {
+            warnings.push(format!("{label} has no triangle with an area; skipped"));
             return Ok(None);
         }
         dropped => warnings.push(format!(
@@ -516,13 +517,14 @@ const MIN_SIN_ANGLE: f32 = 1e-6;
 /// The triangles of `indices` that have an area (see [`MIN_SIN_ANGLE`]); a triangle with a
 /// non-finite corner stays, for the position check to name it.
 fn without_arealess_triangles(indices: Vec<u32>, positions: &Elements<f32>) -> Vec<u32> {
-    let at = |i: u32| Vec3::from_slice(positions.get(i as usize));
+    // In f64: squared lengths of coordinates near 1e-20 (a file in odd units) underflow f32.
+    let at = |i: u32| Vec3::from_slice(positions.get(i as usize)).as_dvec3();
     let has_area = |t: &[u32]| {
         let [a, b, c] = [at(t[0]), at(t[1]), at(t[2])];
         let longest = (b - a).length_squared().max((c - a).length_squared()).max((c - b).length_squared());
         let cross = (b - a).cross(c - a).length();
         // False for a non-finite corner, which keeps its triangle.
-        let no_area = cross <= MIN_SIN_ANGLE * longest;
+        let no_area = cross <= f64::from(MIN_SIN_ANGLE) * longest;
         !no_area
     };
     if indices.chunks_exact(3).all(has_area) {
@@ -746,6 +748,8 @@ mod tests {
         assert!(!keep([0, 1, 4]), "a sliver: its smallest angle is 2e-7 rad");
         assert!(!keep([0, 0, 1]) && !keep([2, 2, 2]), "repeated corners");
         assert!(keep([0, 1, 5]), "a non-finite corner stays for the position check to name it");
+        let tiny = Elements { values: positions.values.iter().map(|x| x * 1e-20).collect(), components: 3 };
+        assert_eq!(without_arealess_triangles(vec![0, 1, 2], &tiny), [0, 1, 2], "tiny units square in f64");
         let mixed = without_arealess_triangles(vec![0, 3, 1, 0, 1, 2, 1, 1, 2], &positions);
         assert_eq!(mixed, vec![0, 1, 2]);
     }

@@ -91,9 +91,10 @@ pub enum ImportError {
     /// The merged character would be too large to hold.
     #[error("{what}: {count} exceeds the limit of {limit}")]
     TooLarge { what: String, count: u64, limit: u64 },
-    /// The default scene draws no triangles.
-    #[error("the scene has no triangle meshes to show")]
-    NoTriangles,
+    /// The default scene draws no triangles; `skipped` says why for each primitive left out
+    /// (no triangle with an area, points or lines, no positions), if any.
+    #[error("the scene has no triangle meshes to show{}", skipped_list(skipped))]
+    NoTriangles { skipped: Vec<String> },
     /// The file requires an extension the importer cannot read (compressed geometry, …).
     #[error("the file needs the glTF extension {name} ({what}), which this viewer cannot read; {advice}")]
     UnsupportedExtension { name: String, what: String, advice: String },
@@ -178,6 +179,15 @@ pub fn from_bytes(
         import(glb.json, glb.bin, resolve)
     } else {
         import(bytes, None, resolve)
+    }
+}
+
+/// `": a; b; c"` for [`ImportError::NoTriangles`], the first three and how many more.
+fn skipped_list(skipped: &[String]) -> String {
+    match skipped.len() {
+        0 => String::new(),
+        n @ 1..=3 => format!(": {}", skipped[..n].join("; ")),
+        n => format!(": {} (and {} more)", skipped[..3].join("; "), n - 3),
     }
 }
 
