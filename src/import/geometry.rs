@@ -2,14 +2,14 @@
 //! [`SkinnedMesh`] in bind space.
 //!
 //! Per primitive, in order: read and check the triangles (strips and fans become lists; points and
-//! lines are skipped; triangles without area are left out with a warning) and the vertex attributes of the vertices they use (a primitive may index
-//! part of a vertex buffer that a whole mesh shares; such an accessor is decoded once, see
-//! [`SharedReads`]), resolve skin influences (the four largest of all
-//! JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by decreasing weight,
-//! renormalized to sum 1), give a primitive without normals flat ones (one corner per triangle
-//! corner, as the spec asks), weld bit-identical corners of non-indexed primitives, replace
-//! zero-length normals, move rigid (unskinned) parts into bind space, and append with a
-//! [`PrimitiveRange`].
+//! lines are skipped; triangles without area are left out with a warning) and the attributes of
+//! the vertices they use (a primitive may index part of a vertex buffer that a whole mesh shares;
+//! such an accessor is decoded once, see [`SharedReads`]), resolve skin influences (the four
+//! largest of all JOINTS_n/WEIGHTS_n sets, remapped into [`crate::Skeleton::joints`], sorted by
+//! decreasing weight, renormalized to sum 1), give a primitive without normals flat ones (one
+//! corner per triangle corner, as the spec asks), weld bit-identical corners of non-indexed
+//! primitives, replace zero-length normals, move rigid (unskinned) parts into bind space, and
+//! append with a [`PrimitiveRange`].
 //!
 //! Morph targets (§3.7.2.2) come along: each target's POSITION and NORMAL deltas (sparse
 //! accessors too) are kept per vertex where non-zero, moved into bind space with their primitive
@@ -22,13 +22,12 @@
 //! it to an arbitrary joint would hide a broken export.
 
 use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
 
 use glam::{Affine2, Mat2, Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf_json::accessor::Type;
 use gltf_json::mesh::{Mode, Semantic};
 use gltf_json::validation::Checked;
-
-use std::rc::Rc;
 
 use super::accessor::{pick_rows, Elements, SharedReads, Source};
 use super::scene::{node_name, JointTable, MeshInstance, SceneGraph};
