@@ -157,8 +157,8 @@ impl ShadingWeld {
         // A copy of a triangle (a mesh drawn twice, a sheet doubled by a reversed copy) keeps its
         // own vertices, so that the simplifier can layer it apart (`crate::twins`).
         let ids = position_ids(&mesh.positions);
-        let layers =
-            triangle_layers(|v| ids[v as usize], &mesh.indices).map(|t| vertex_layers(&t, &mesh.indices, n));
+        let layers = triangle_layers(|v| ids[v as usize], &mesh.indices, n)
+            .map(|t| vertex_layers(&t, &mesh.indices, n));
         let same_layer = |a: u32, b: u32| layers.as_ref().is_none_or(|l| l[a as usize] == l[b as usize]);
         let alike = |a: u32, b: u32| {
             let flat_candidate = candidate[a as usize];

@@ -132,7 +132,7 @@ impl PositionClasses {
 /// vertex index, so the result does not depend on sorting details.
 pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionClasses {
     let plain = weld(positions, indices, None);
-    match triangle_layers(|v| plain.class_of[v as usize], indices) {
+    match triangle_layers(|v| plain.class_of[v as usize], indices, plain.count()) {
         None => plain,
         Some(triangle_layer) => {
             let layer = vertex_layers(&triangle_layer, indices, positions.len());
