@@ -14,12 +14,13 @@
 //!   ─ Renderer::render ─▶ render/skin.wgsl (morph and skin every view), difference.wgsl (the meter)
 //! ```
 //!
-//! The core — [`import`], [`character`], [`mesh`], [`skeleton`], [`animation`], [`morph`],
-//! [`skinning`], [`simplify`](mod@simplify), [`progressive`], [`clod`], [`vertex_cache`], [`metrics`] and the pure
-//! half of [`render`] (schedule, plan, camera, layout, the viewer's model) — has no GPU and no DOM
-//! dependency: it builds and tests natively and on `wasm32-unknown-unknown`. The `js` feature adds
-//! the wasm-bindgen API used by the page and by node (`js_api`); the `web` feature adds the wgpu
-//! renderer (`render::gpu`) and the page's viewer (`web`).
+//! The core — [`import`], [`character`], [`mesh`], [`twins`], [`skeleton`], [`animation`],
+//! [`morph`], [`skinning`], [`simplify`](mod@simplify), [`progressive`], [`clod`],
+//! [`vertex_cache`], [`metrics`] and the pure half of [`render`] (schedule, plan, camera, layout,
+//! the viewer's model) — has no GPU and no DOM dependency: it builds and tests natively and on
+//! `wasm32-unknown-unknown`. The `js` feature adds the wasm-bindgen API used by the page and by
+//! node (`js_api`); the `web` feature adds the wgpu renderer (`render::gpu`) and the page's viewer
+//! (`web`).
 //!
 //! Conventions: right-handed, metres (whatever the file uses), column vectors, matrices named
 //! `a_from_b` (they map points of space `b` into space `a`), glTF's parent-first node order.

@@ -4,7 +4,8 @@
 //! 1. pose the skinned mesh in the simplification pose `P0` with CPU skinning ([`poses`]);
 //!    for multi-pose, sum plane quadrics over animation frames pulled back into `P0`;
 //! 2. simplify the static `P0` mesh by quadric edge collapses with attribute quadrics (normals,
-//!    uv, colour), recording the progressive mesh ([`crate::simplify`](mod@crate::simplify), [`crate::progressive`]);
+//!    uv, colour), recording the progressive mesh ([`crate::simplify`](mod@crate::simplify),
+//!    [`crate::progressive`]);
 //! 3. carry every moved vertex back into bind space through the inverse of its blended skin
 //!    matrix at `P0`; the new vertex keeps the skin weights of the vertex it inherits identity from
 //!    (the collapse's survivor, as in the paper), so every level animates with every clip;

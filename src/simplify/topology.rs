@@ -128,8 +128,9 @@ impl PositionClasses {
 }
 
 /// Groups the referenced vertices by bit-identical position, and by *layer* where triangles
-/// repeat each other ([`crate::twins`]: each copy of a repeated surface simplifies on its own). Class ids follow the order of each class's lowest
-/// vertex index, so the result does not depend on sorting details.
+/// repeat each other ([`crate::twins`]: each copy of a repeated surface simplifies on its own).
+/// Class ids follow the order of each class's lowest vertex index, so the result does not depend
+/// on sorting details.
 pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionClasses {
     let plain = weld(positions, indices, None);
     match triangle_layers(|v| plain.class_of[v as usize], indices, plain.count()) {
