@@ -2,10 +2,11 @@
 // triangle counts.
 //
 //   source scripts/tools.sh; build_wasm node && npm ci
-//   node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]
+//   node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE] [MODEL.glb|.gltf|FOLDER...]
 //
-// For every model it has (the shared models CesiumMan, Fox, RiggedSimple and the project's
-// assets/character.glb, robot.glb, parts.glb), the counts are our default build's levels from level 1 on
+// For every model it has (the shared models CesiumMan, Fox, RiggedSimple, any other model in
+// ../shared/models and the project's assets/character.glb, robot.glb, parts.glb; or the files named on
+// the command line, see bench/models.mjs), the counts are our default build's levels from level 1 on
 // (`buildClod()`: multi-pose simplification). At each count it simplifies the bind-pose mesh with
 // meshoptimizer `simplify` and `simplifyWithAttributes` (normals and uv priced with weight 1 each) on the
 // file's vertices with their seams, as issue 14 asks (what a gltf-transform user gets; uv only for a file
@@ -26,8 +27,9 @@
 import { readFileSync, existsSync, writeFileSync } from 'node:fs';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
-import { api, modelBytes } from '../tests/js/models.mjs';
+import { api } from '../tests/js/models.mjs';
 import { meshoptAttributeInput, uncompact, weldByPosition } from './meshopt-input.mjs';
+import { loadModel, modelPaths } from './models.mjs';
 
 const SEED = 12345;
 // The issue's targets: ours at most 0.8x the better meshoptimizer averaged over levels, 1.0x at every level.
@@ -40,20 +42,12 @@ export const RATIO_FLOOR_PCT = 0.001;
 export const FULL = { samples: 10000, frames: 4, clips: 2 };
 export const SHORT = { samples: 4000, frames: 2, clips: 1 };
 
-/** The models present: [name, bytes]; the shared ones are skipped (with a line) when absent. */
-function models() {
-  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb'].map((f) => [f, modelBytes(f)]);
-  for (const f of ['character.glb', 'robot.glb', 'parts.glb']) {
-    const path = fileURLToPath(new URL(`../assets/${f}`, import.meta.url));
-    if (existsSync(path)) list.push([f, new Uint8Array(readFileSync(path))]);
-    else console.log(`skipping ${f}: ${path} is missing`);
-  }
-  return list.filter(([, bytes]) => bytes);
-}
+/** The project's test characters this benchmark measures by default, after the shared models. */
+export const ASSET_NAMES = ['character.glb', 'robot.glb', 'parts.glb'];
 
-/** One model: per level the three errors, or `{ skipped }` when it has nothing to animate. */
-function measureModel(name, bytes, { samples, frames, clips }) {
-  const character = api.Character.fromGlb(bytes);
+/** One model file: per level the three errors, or `{ skipped }` when it has nothing to animate. */
+function measureModel(path, { samples, frames, clips }) {
+  const { name, json, character } = loadModel(path);
   try {
     const clipNames = character.clipNames.slice(0, clips);
     if (character.jointCount === 0 || clipNames.length === 0) {
@@ -62,7 +56,7 @@ function measureModel(name, bytes, { samples, frames, clips }) {
     const indices = character.indices();
     const positions = character.bindPositions();
     const diag = api.boundsDiagonal(positions);
-    const input = meshoptAttributeInput(character, bytes);
+    const input = meshoptAttributeInput(character, json);
     const welded = weldByPosition(indices, positions);
     let flags = [];
     // Each returns indices of the full mesh's vertices, so the full mesh's skinning poses them.
@@ -172,10 +166,10 @@ function measureModel(name, bytes, { samples, frames, clips }) {
   }
 }
 
-/** Every model present, measured with `settings` (FULL or SHORT). */
-export async function measure(settings = FULL) {
+/** The models at `paths` (by default every model present, see bench/models.mjs), measured with `settings` (FULL or SHORT). */
+export async function measure(settings = FULL, paths = modelPaths([], ASSET_NAMES)) {
   await MeshoptSimplifier.ready;
-  return models().map(([name, bytes]) => measureModel(name, bytes, settings));
+  return paths.map((path) => measureModel(path, settings));
 }
 
 /** The levels whose animated Hausdorff distance is over the better meshoptimizer's, in words. */
@@ -222,7 +216,8 @@ export function format(model) {
 if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   const argv = process.argv.slice(2);
   if (argv.includes('--help')) {
-    console.log('node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE]\n' +
+    console.log('node bench/animated-vs-meshoptimizer.mjs [--short] [--json FILE] [--baseline FILE] [MODEL.glb|.gltf|FOLDER...]\n' +
+      '  models: those named, or the shared models, any other model in ../shared/models and assets/ ' + ASSET_NAMES.join(', ') + '\n' +
       '  --short: 2 frames of 1 clip, 4,000 samples; --json: every number; --baseline: per model the mean and\n' +
       '  worst-level ratio and the number of levels with a higher Hausdorff distance, as tests/js/animated.test.mjs reads them (bench/animated-baseline.json, from --short)');
     process.exit(0);
@@ -231,7 +226,9 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   const jsonAt = argv.indexOf('--json');
   const baselineAt = argv.indexOf('--baseline');
   const started = performance.now();
-  const results = await measure(settings);
+  const valued = new Set([jsonAt, baselineAt].filter((i) => i >= 0).map((i) => i + 1));
+  const paths = modelPaths(argv.filter((a, i) => !a.startsWith('--') && !valued.has(i)), ASSET_NAMES);
+  const results = await measure(settings, paths);
   console.log(`settings: ${settings.frames} frames of ${settings.clips} clip(s), ${settings.samples} samples each way\n`);
   for (const model of results) console.log(`${format(model)}\n`);
   console.log(`| model | ours / better meshopt, mean over levels | worst level | levels with a higher Hausdorff distance |\n|---|---|---|---|`);

@@ -1,9 +1,10 @@
 // Benchmark: our articulated progressive mesh against meshoptimizer's wasm simplifier, in one node process.
 //
 //   wasm-pack build --release --target nodejs --out-dir target/pkg-node -- --features js && npm ci
-//   node bench/lod-vs-meshoptimizer.mjs [--samples N] [--frames N] [--build-only]
+//   node bench/lod-vs-meshoptimizer.mjs [--samples N] [--frames N] [--build-only] [MODEL.glb|.gltf|FOLDER...]
 //
-// For each model in ../shared/models and the built-in character it prints, as ratios measured in this run:
+// For each model in ../shared/models and the built-in character (or each named on the command line, see
+// bench/models.mjs) it prints, as ratios measured in this run:
 //  1. build time: ours (progressive mesh + LOD chain + correspondences) vs meshoptimizer simplifying the same
 //     merged, position-welded mesh to 50/25/10/5/1 % independently and as a chain (each level from the last),
 //     each the best of at least 5 runs and of as many as fit in 1.5 s; and, for context, meshoptimizer doing
@@ -16,16 +17,19 @@
 //  3. animated error: every LOD and the full mesh skinned at frames of every clip, for bind-pose, multi-pose
 //     and mid-clip (the default: the middle frame of the first clip) simplification;
 //  4. the native build time of the same build (`cargo run --release --example clod_timing`, run from here).
-import { readFileSync, existsSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
-import { fileURLToPath } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
-import { api, modelBytes } from '../tests/js/models.mjs';
+import { api } from '../tests/js/models.mjs';
 import { meshoptAttributeInput, weldByPosition } from './meshopt-input.mjs';
+import { loadModel, modelPaths } from './models.mjs';
 
 // --build-only prints the build times (1 and 4) and skips the error measurements.
 const BUILD_ONLY = process.argv.includes('--build-only');
-const args = Object.fromEntries(process.argv.slice(2).filter((a) => a !== '--build-only').map((a, i, all) => a.startsWith('--') ? [a.slice(2), all[i + 1]] : null).filter(Boolean));
+// `--samples N` and `--frames N` take a value; every other argument that is not an option names a model.
+const argv = process.argv.slice(2).filter((a) => a !== '--build-only');
+const valued = new Set(argv.flatMap((a, i) => (a.startsWith('--') ? [i + 1] : [])));
+const args = Object.fromEntries(argv.flatMap((a, i) => (a.startsWith('--') ? [[a.slice(2), argv[i + 1]]] : [])));
+const modelArgs = argv.filter((a, i) => !a.startsWith('--') && !valued.has(i));
 const SAMPLES = Number(args.samples ?? 20000);
 const FRAMES = Number(args.frames ?? 6);
 const SEED = 12345;
@@ -89,25 +93,17 @@ function timeIt(fn, minRuns = 5, budgetMs = 1500) {
   return [result, best];
 }
 
-function models() {
-  const list = ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']
-    .map((f) => [f, modelBytes(f), fileURLToPath(new URL(`../../shared/models/${f}`, import.meta.url))]);
-  const builtin = fileURLToPath(new URL('../assets/character.glb', import.meta.url));
-  if (existsSync(builtin)) list.push(['character.glb (built-in)', new Uint8Array(readFileSync(builtin)), builtin]);
-  return list.filter(([, bytes]) => bytes);
-}
-
 /** Native build times (ms) of the same builds, from examples/clod_timing.rs, keyed by file path. */
 function nativeTimes(paths) {
   const out = execFileSync('cargo', ['run', '--release', '--quiet', '--example', 'clod_timing', '--', ...paths], { encoding: 'utf8' });
   return Object.fromEntries(out.trim().split('\n').map((line) => JSON.parse(line)).map((r) => [r.file, r.ms]));
 }
 
-const list = models();
-const native = nativeTimes(list.map(([, , path]) => path));
+const paths = modelPaths(modelArgs, ['character.glb']);
+const native = nativeTimes(paths);
 
-for (const [name, bytes, path] of list) {
-  const character = api.Character.fromGlb(bytes);
+for (const path of paths) {
+  const { name, json, character } = loadModel(path);
   const indices = character.indices();
   const positions = character.bindPositions();
   const diag = api.boundsDiagonal(positions);
@@ -117,7 +113,7 @@ for (const [name, bytes, path] of list) {
 
   const [, meshoptIndependentMs] = timeIt(() => meshoptLevels(welded.indices, welded.positions, counts, false));
   const [meshopt, meshoptChainMs] = timeIt(() => meshoptLevels(welded.indices, welded.positions, counts, true));
-  const input = meshoptAttributeInput(character, bytes);
+  const input = meshoptAttributeInput(character, json);
   const [, withAttributesMs] = timeIt(() => meshoptAttributeChain(input, counts, false));
   const [updated, withUpdateMs] = timeIt(() => meshoptAttributeChain(input, counts, true));
   // The default build (timed), and a bind-pose build for the static comparison: meshoptimizer

@@ -51,14 +51,12 @@ export function weldByPosition(indices, positions) {
 }
 
 /**
- * Whether every mesh primitive of a `.glb` file has its own `NORMAL` attribute. Without it glTF
- * (§3.7.2.1) has viewers draw flat normals, which our importer generates (a face normal per triangle
- * corner); a meshoptimizer user (gltf-transform) sees the file's vertices, which have none.
+ * Whether every mesh primitive of a glTF file (its JSON, as `loadModel` in models.mjs gives it) has
+ * its own `NORMAL` attribute. Without it glTF (§3.7.2.1) has viewers draw flat normals, which our
+ * importer generates (a face normal per triangle corner); a meshoptimizer user (gltf-transform) sees
+ * the file's vertices, which have none.
  */
-export function fileHasNormals(glb) {
-  const view = new DataView(glb.buffer, glb.byteOffset, glb.byteLength);
-  const jsonLength = view.getUint32(12, true);
-  const json = JSON.parse(new TextDecoder().decode(glb.subarray(20, 20 + jsonLength)));
+export function fileHasNormals(json) {
   return (json.meshes ?? []).every((m) => m.primitives.every((p) => p.attributes.NORMAL !== undefined));
 }
 
@@ -73,10 +71,10 @@ export function fileHasNormals(glb) {
  * every edge a normal seam only meshoptimizer's `Permissive` gets across, and `Permissive` crosses
  * the uv seams too. Welding the corners again by position and uv gives back the file's vertices.
  */
-export function meshoptAttributeInput(character, glb) {
+export function meshoptAttributeInput(character, json) {
   const indices = character.indices();
   const uvs = character.uvs();
-  if (!fileHasNormals(glb)) {
+  if (!fileHasNormals(json)) {
     const positions = character.bindPositions();
     const first = new Map();
     const remap = new Uint32Array(character.vertexCount);

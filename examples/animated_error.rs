@@ -1,6 +1,6 @@
 //! Native reproduction of bench/lod-vs-meshoptimizer.mjs's quality numbers, minutes faster than the
 //! node bench: `cargo run --release --features wasm-math --example animated_error -- [--detail]
-//! [--oracle] FILE.glb...`. Without `wasm-math`, glam's SIMD paths round skinned positions
+//! [--oracle] FILE.glb|FILE.gltf...`. Without `wasm-math`, glam's SIMD paths round skinned positions
 //! differently from the wasm build; on CesiumMan that changes which triangle count the mid-clip
 //! build stops short at, hence the common counts, hence every animated number (bind 0.677 natively
 //! vs 0.583 in the bench). With it, the four models reproduce the bench's numbers digit for digit
@@ -39,6 +39,7 @@ use clod_viewer::import;
 use clod_viewer::metrics::{bounds_diagonal, surface_distance, SurfaceDistance};
 use clod_viewer::Schedule;
 use glam::Vec3;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// `--passes`: build with [`Schedule::Passes`].
@@ -74,16 +75,13 @@ fn main() {
         }
     }
     if files.is_empty() {
-        fail("usage: animated_error [--detail] [--passes] [--pose NAME]... FILE.glb...");
+        fail("usage: animated_error [--detail] [--passes] [--pose NAME]... FILE.glb|FILE.gltf...");
     }
     if poses.is_empty() {
         poses = ["bind", "multi", "mid-clip"].map(|p| (p.to_string(), parse_pose(p).unwrap())).to_vec();
     }
     for file in files {
-        let character = std::fs::read(&file)
-            .map_err(|e| e.to_string())
-            .and_then(|b| import::from_glb(&b).map_err(|e| e.to_string()))
-            .unwrap_or_else(|e| fail(&format!("{file}: {e}")));
+        let character = import::from_file(Path::new(&file)).unwrap_or_else(|e| fail(&format!("{file}: {e}")));
         report(&file, &character, &poses, detail, oracle);
     }
 }

@@ -1,5 +1,5 @@
 //! Native build time of the articulated progressive mesh, for the benchmark's "native next to
-//! wasm" column: `cargo run --release --example clod_timing -- FILE.glb...` prints one JSON line
+//! wasm" column: `cargo run --release --example clod_timing -- FILE.glb|FILE.gltf...` prints one JSON line
 //! per file: `{"file": ..., "triangles": ..., "ms": ..., "builds": ..., "phases": {...}}`.
 //! `ms` is the best of at least three builds and of as many as fit in half a second (small
 //! models build in a few milliseconds on a shared machine), with the level counts of
@@ -10,6 +10,7 @@
 //! `--counts` adds the collapse engine's counts of one build (`"counts": {...}`, see
 //! `simplify::PricingStats`): collapses, exact pricings, and edges queued under a bound.
 
+use std::path::Path;
 use std::time::Instant;
 
 use clod_viewer::clod::{self, ClodOptions};
@@ -27,14 +28,11 @@ fn main() {
     let schedule = if passes { Schedule::Passes } else { Schedule::Strict };
     let files: Vec<String> = args.into_iter().filter(|a| a != "--passes" && a != "--counts").collect();
     if files.is_empty() {
-        eprintln!("usage: clod_timing [--passes] [--counts] FILE.glb...");
+        eprintln!("usage: clod_timing [--passes] [--counts] FILE.glb|FILE.gltf...");
         std::process::exit(2);
     }
     for file in files {
-        let character = match std::fs::read(&file)
-            .map_err(|e| e.to_string())
-            .and_then(|b| import::from_glb(&b).map_err(|e| e.to_string()))
-        {
+        let character = match import::from_file(Path::new(&file)) {
             Ok(c) => c,
             Err(e) => {
                 eprintln!("{file}: {e}");

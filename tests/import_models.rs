@@ -224,3 +224,35 @@ fn gltf_json_with_external_buffer_matches_the_glb() {
     let err = from_gltf(&text, &mut |_| None).unwrap_err().to_string();
     assert!(err.contains("Cesium Man.bin"), "{err}");
 }
+
+/// `from_file` reads a `.gltf`'s buffer from its folder (native only: wasm32 has no files).
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn a_gltf_file_on_disk_reads_its_buffer_from_its_folder() {
+    use clod_viewer::import::{from_file, ImportError};
+    let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
+    let (mut json, bin) = split_glb(&bytes);
+    json["buffers"][0]["uri"] = gltf_json::Value::from("data/Cesium%20Man.bin");
+    let folder = std::env::temp_dir().join(format!("clod-from-file-{}", std::process::id()));
+    std::fs::create_dir_all(folder.join("data")).unwrap();
+    let gltf = folder.join("man.gltf");
+    std::fs::write(&gltf, gltf_json::serialize::to_vec(&json).unwrap()).unwrap();
+    std::fs::write(folder.join("data/Cesium Man.bin"), &bin).unwrap();
+    std::fs::write(folder.join("man.glb"), &bytes).unwrap();
+
+    let from_binary = from_glb(&bytes).unwrap();
+    assert_eq!(from_file(&gltf).unwrap(), from_binary);
+    assert_eq!(from_file(&folder.join("man.glb")).unwrap(), from_binary);
+    std::fs::remove_file(folder.join("data/Cesium Man.bin")).unwrap();
+    let missing = from_file(&gltf).unwrap_err();
+    assert!(
+        matches!(&missing, ImportError::MissingResource(uri) if uri.contains("Cesium Man.bin")),
+        "{missing}"
+    );
+    let absent = from_file(&folder.join("absent.glb")).unwrap_err();
+    assert!(
+        matches!(&absent, ImportError::Unreadable { path, .. } if path.ends_with("absent.glb")),
+        "{absent}"
+    );
+    std::fs::remove_dir_all(&folder).unwrap();
+}

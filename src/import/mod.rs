@@ -58,6 +58,9 @@ pub enum ImportError {
     /// The GLB header or chunk layout is broken (usually a truncated download).
     #[error("broken GLB file: {0}")]
     Glb(String),
+    /// The file itself could not be read from disk ([`from_file`]).
+    #[error("cannot read {path}: {reason}")]
+    Unreadable { path: String, reason: String },
     /// The JSON does not parse as a glTF document.
     #[error("the glTF JSON does not parse: {0}")]
     Json(String),
@@ -180,6 +183,24 @@ pub fn from_bytes(
     } else {
         import(bytes, None, resolve)
     }
+}
+
+/// Imports a `.glb` or `.gltf` file from disk, reading the external buffers and images its URIs
+/// name from paths relative to the file's folder (native only: a browser has no such folder;
+/// there, pass a resolver to [`from_bytes`]).
+///
+/// # Errors
+/// [`ImportError::Unreadable`] when the file cannot be read; a URI naming no readable file gives
+/// [`ImportError::MissingResource`]; otherwise as [`from_bytes`].
+#[cfg(not(target_arch = "wasm32"))]
+pub fn from_file(path: &std::path::Path) -> Result<Character, ImportError> {
+    let unreadable = |e: std::io::Error| ImportError::Unreadable {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    };
+    let bytes = std::fs::read(path).map_err(unreadable)?;
+    let folder = path.parent().unwrap_or(std::path::Path::new("."));
+    from_bytes(&bytes, &mut |uri| std::fs::read(folder.join(uri)).ok())
 }
 
 /// `": a; b; c"` for [`ImportError::NoTriangles`], the first three and how many more.
