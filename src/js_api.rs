@@ -243,6 +243,14 @@ impl Clod {
         self.clod.levels.len()
     }
 
+    /// Why the coarsest level has more triangles than the build asked for, as a sentence
+    /// ("the levels stop at 988 of 3840 triangles (26 %): ..."); `undefined` when the build
+    /// reached its last requested count.
+    #[wasm_bindgen(getter, js_name = stoppedShort)]
+    pub fn stopped_short(&self) -> Option<String> {
+        self.clod.stopped_short().map(|s| s.to_string())
+    }
+
     /// Bytes used by all ancestor tables.
     #[wasm_bindgen(getter, js_name = ancestorTableBytes)]
     pub fn ancestor_table_bytes(&self) -> usize {

@@ -103,6 +103,7 @@ fn default_chain_holds_its_invariants_on_every_model() {
     for (name, character) in every_model() {
         let clod = build(&character, &ClodOptions::default());
         check_chain(name, &clod);
+        assert_eq!(clod.stopped_short(), None, "{name}: the default levels are all reached");
         // Level 0 of the default chain is the input mesh itself, its facet corners welded
         // (clod::shading: CesiumMan and RiggedSimple have flat-shaded parts).
         let full = &clod.levels[0];
@@ -286,6 +287,18 @@ fn the_floor_skips_every_collapse_costlier_than_the_max_error() {
         assert!(pm.collapses.len() < all.collapses.len(), "{schedule:?}");
         assert_eq!(all.collapses[..first_over], pm.collapses[..first_over], "{schedule:?}");
         check_chain(&format!("Fox floored {schedule:?}"), &floored);
+        // The chain says where and why it stopped short of 20 triangles.
+        let short = floored.stopped_short().expect("the floor stopped it");
+        let coarsest = floored.levels.last().unwrap().triangle_count();
+        assert_eq!((short.reason, short.triangles, short.full), (StopReason::MaxErrorReached, coarsest, 576));
+        let percent = (100.0 * coarsest as f64 / 576.0).round();
+        assert_eq!(
+            short.to_string(),
+            format!(
+                "the levels stop at {coarsest} of 576 triangles ({percent} %): every further collapse would \
+                 move the surface more than the error limit allows"
+            )
+        );
     }
 }
 

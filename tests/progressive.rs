@@ -137,6 +137,7 @@ fn simplification_is_deterministic_and_set_triangle_count_matches() {
     let mut cursor = a.cursor();
     for target in [1000, 500, 120, 1199, 1, 0, 300] {
         let k = cursor.set_triangle_count(target);
+        assert!(k <= a.collapse_count(), "{k} collapses for {target}, of {}", a.collapse_count());
         let count = a.triangle_count_after(k);
         assert_eq!(cursor.indices().len(), 3 * count);
         if k < a.collapse_count() {
@@ -146,6 +147,26 @@ fn simplification_is_deterministic_and_set_triangle_count_matches() {
             assert!(a.triangle_count_after(k - 1) > target, "not the finest level for {target}");
         }
     }
+}
+
+/// A mesh no collapse may touch gives one level, not a copy of it claiming one more collapse: a
+/// count the progressive mesh cannot reach is its coarsest level (here, all 0 collapses).
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_mesh_that_cannot_simplify_gives_one_level() {
+    // Every collapse of this randomly bumpy grid moves the surface: a zero error limit allows none.
+    let heights: Vec<f32> = {
+        let mut rng = Rng(17);
+        (0..49).map(|_| 0.3 * rng.signed()).collect()
+    };
+    let mesh = grid(6, 6, |x, y| heights[(7 * y + x) as usize]);
+    let pm = mesh.simplify(&SimplifyOptions { max_mean_squared_error: 0.0, ..SimplifyOptions::default() });
+    assert_eq!((pm.collapse_count(), pm.stop), (0, StopReason::MaxErrorReached));
+    let full = pm.triangle_count_after(0);
+    assert_eq!(pm.collapses_for_triangle_count(full / 2), 0);
+    let levels = clod_viewer::clod::chain::build_levels(&pm, &[full, full / 2, full / 4]);
+    assert_eq!(levels.len(), 1);
+    assert_eq!((levels[0].collapses, levels[0].triangle_count()), (0, full));
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

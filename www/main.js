@@ -260,7 +260,7 @@ function showStats() {
   const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()} (level ${v.level}${v.to !== v.level ? ` → ${v.to}, t ${v.t.toFixed(2)}` : ''})`).join(' · ');
   const rows = [
     ['Drawn', views],
-    ['Levels', levels],
+    ['Levels', s.levelsStop ? `${levels} (${s.levelsStop})` : levels],
     ['LOD build', lodBuildText(s)],
     ['Frame', viewer.frameMs ? `${viewer.frameMs.toFixed(1)} ms` : '–'],
     ['Backend', [s.backend === 'webgpu' ? 'WebGPU' : 'WebGL2', s.adapter, `MSAA ${s.msaa}×`].filter(Boolean).join(' · ')],

@@ -8,10 +8,10 @@
 //! forest merges wedges (position + attributes) as units. Tables chain: composing `i → i+1` and
 //! `i+1 → i+2` gives `i → i+2`.
 
-use crate::progressive::ProgressiveMesh;
-use crate::vertex_cache::{first_use_order, optimize_triangle_order};
+use std::fmt;
 
-use crate::progressive::NONE;
+use crate::progressive::{ProgressiveMesh, StopReason, NONE};
+use crate::vertex_cache::{first_use_order, optimize_triangle_order};
 
 /// One discrete level.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,4 +108,44 @@ pub fn build_levels(pm: &ProgressiveMesh, requested: &[usize]) -> Vec<LodLevel> 
             .collect();
     }
     levels
+}
+
+/// Why a chain's coarsest level has more triangles than its build asked for: the simplifier
+/// stopped first ([`StopReason::MaxErrorReached`] or [`StopReason::NoValidCollapse`]). Its
+/// `Display` is a sentence for the reader of the page.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StoppedShort {
+    pub reason: StopReason,
+    /// Triangles of the coarsest level.
+    pub triangles: usize,
+    /// Triangles of the full mesh.
+    pub full: usize,
+}
+
+impl StoppedShort {
+    /// Whether the simplification of `pm` stopped before its target, and where; `None` when it
+    /// reached it.
+    pub fn of(pm: &ProgressiveMesh) -> Option<StoppedShort> {
+        (pm.stop != StopReason::TargetReached).then(|| StoppedShort {
+            reason: pm.stop,
+            triangles: pm.triangle_count_after(pm.collapse_count()),
+            full: pm.triangle_count_after(0),
+        })
+    }
+}
+
+impl fmt::Display for StoppedShort {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let percent = 100.0 * self.triangles as f64 / self.full.max(1) as f64;
+        write!(f, "the levels stop at {} of {} triangles ({percent:.0} %): ", self.triangles, self.full)?;
+        f.write_str(match self.reason {
+            StopReason::MaxErrorReached => {
+                "every further collapse would move the surface more than the error limit allows"
+            }
+            StopReason::NoValidCollapse | StopReason::TargetReached => {
+                "every edge left is locked (where seams, creases or material borders meet) or would fold \
+                 a triangle over"
+            }
+        })
+    }
 }

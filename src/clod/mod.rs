@@ -31,7 +31,7 @@ use crate::morph::MorphDeltas;
 use crate::progressive::{ProgressiveMesh, NONE};
 use crate::simplify::{self, CollapseMode, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
 use crate::skinning;
-pub use chain::LodLevel;
+pub use chain::{LodLevel, StoppedShort};
 pub use poses::SimplificationPose;
 
 /// What to build.
@@ -565,6 +565,12 @@ fn blend_influences(
 }
 
 impl Clod {
+    /// Why the coarsest level has more triangles than the build asked for, if it has: the
+    /// error limit ([`ClodOptions::max_error`]) or the mesh's locks stopped the simplifier first.
+    pub fn stopped_short(&self) -> Option<StoppedShort> {
+        StoppedShort::of(&self.apm.pm)
+    }
+
     /// Bind positions of a level's vertices.
     pub fn level_bind_positions(&self, level: usize) -> Vec<Vec3> {
         self.levels[level].vertices.iter().map(|&v| self.apm.bind_positions[v as usize]).collect()

@@ -299,8 +299,10 @@ impl ProgressiveMesh {
         if self.triangle_count_after(0) <= triangles {
             return 0;
         }
-        // triangles_after is non-increasing: find the first step at or below the target.
-        self.collapses.partition_point(|c| c.triangles_after as usize > triangles) + 1
+        // triangles_after is non-increasing: find the first step at or below the target; when
+        // none is, every collapse (not one past the last).
+        let above = self.collapses.partition_point(|c| c.triangles_after as usize > triangles);
+        (above + 1).min(self.collapses.len())
     }
 
     /// The vertex that stands for `v` after `k` collapses: follow `parent` while the parent was

@@ -118,7 +118,7 @@ impl Inner {
         format!(
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
-                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"buildMs\":{},\"builtOffMainThread\":{},\"lodFrom\":{},",
+                "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"levelsStop\":{},\"buildMs\":{},\"builtOffMainThread\":{},\"lodFrom\":{},",
                 "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
@@ -139,6 +139,7 @@ impl Inner {
             s.clip.map_or("null".to_string(), |c| c.to_string()),
             levels.join(","),
             switch.join(","),
+            self.clod.as_ref().and_then(|c| c.stopped_short()).map_or("null".to_string(), |s| json_str(&s.to_string())),
             num(self.build_ms as f32),
             self.built_off_main_thread,
             self.lod_from.map_or("null".to_string(), json_str),

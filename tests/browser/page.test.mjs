@@ -48,7 +48,7 @@ async function nextOutcome(page, action) {
     // The levels that follow a load, and what the viewer showed at its first frame.
     window.__levels = new Promise((resolve) => {
       viewer.addEventListener('load', (e) => { window.__first = { levels: e.detail.levels.length, lodFrom: e.detail.lodFrom }; }, { once: true });
-      viewer.addEventListener('lod', (e) => resolve({ levels: e.detail.levels.length, lodFrom: e.detail.lodFrom }), { once: true });
+      viewer.addEventListener('lod', (e) => resolve({ levels: e.detail.levels.length, lodFrom: e.detail.lodFrom, levelsStop: e.detail.levelsStop }), { once: true });
     });
   });
   await action();
@@ -144,6 +144,7 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
     const { first, levels } = await levelsArrived(page);
     assert.deepEqual(first, { levels: 1, lodFrom: null }, 'the first frame comes before the levels');
     assert.ok(levels.levels > 1 && levels.lodFrom === 'build', JSON.stringify(levels));
+    assert.equal(levels.levelsStop, null, 'the default levels are all reached');
     const { progress, longTasks } = await page.evaluate(() => ({ progress: window.__progress, longTasks: window.__longTasks }));
     const fractions = progress.map((p) => p.fraction);
     assert.ok(progress.length >= 4, `too few progress events: ${JSON.stringify(progress)}`);
@@ -159,7 +160,7 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
     const again = await nextOutcome(page, () => page.evaluate(() => window.__drop()));
     assert.equal(again.type, 'load');
     const cached = await levelsArrived(page);
-    assert.deepEqual(cached.levels, { levels: levels.levels, lodFrom: 'cache' });
+    assert.deepEqual(cached.levels, { levels: levels.levels, lodFrom: 'cache', levelsStop: null });
     assert.match(await page.locator('#stat-lod-build').textContent(), /from the cache/);
   });
 }

@@ -69,6 +69,7 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   const strict = fox.buildClod({ levels: [400, 200, 100], schedule: 'strict' });
   const passes = fox.buildClod({ levels: [400, 200, 100], schedule: 'passes' });
   const plain = fox.buildClod({ levels: [400, 200, 100] });
+  const plainStop = plain.stoppedShort;
   for (let i = 0; i < 3; i++) {
     assert.deepEqual(plain.level(i), strict.level(i));
     assert.ok(passes.level(i).triangleCount <= [400, 200, 100][i]);
@@ -79,6 +80,9 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   const floored = fox.buildClod({ levels: [400, 20] });
   const unbounded = fox.buildClod({ levels: [400, 20], maxError: Infinity });
   assert.ok(floored.level(1).triangleCount > unbounded.level(1).triangleCount);
+  // ... and says so: where the levels stop, and why.
+  assert.match(floored.stoppedShort, new RegExp(`^the levels stop at ${floored.level(1).triangleCount} of 576 triangles .*error limit`));
+  assert.equal(plainStop, undefined, 'a build that reaches its last count did not stop short');
   floored.free();
   unbounded.free();
   fox.free();
