@@ -1,0 +1,270 @@
+// Types of the `<clod-viewer>` element (clod-viewer.js) for documentation pages written in
+// TypeScript, or for an editor's completion in plain JavaScript:
+//
+//   import type { ClodViewerElement, ViewerState } from './viewer/clod-viewer.js';
+//   const viewer = document.querySelector('clod-viewer')!; // typed: HTMLElementTagNameMap below
+//
+// The names are the element's and the viewer's own (src/web/); tests/js/dts.test.mjs fails when
+// `state()`, `setState` or the element gain a name this file does not declare.
+
+/** A transition method: what each view shows. */
+export type Method = 'popping' | 'alpha' | 'geomorph';
+
+/** One view of the canvas: the transition it draws this frame. */
+export interface ViewState {
+  method: Method;
+  /** The level shown, and the level the running transition goes to (equal when none runs). */
+  level: number;
+  to: number;
+  /** The transition's progress, 0..1. */
+  t: number;
+  /** Triangles drawn in this view (crowd: over every instance). */
+  triangles: number;
+  /** Draw calls of the view. */
+  draws: number;
+  /** `[x, y, width, height]` in canvas pixels. */
+  rect: [number, number, number, number];
+}
+
+/** The live meter's pop for one method: the largest frame-to-frame change through the last transition. */
+export interface MethodPop {
+  /** % of the view's pixels whose coverage differs from the full-detail reference. */
+  silhouette: number;
+  /** Mean |ΔRGB| per pixel both cover, 0..765. */
+  shading: number;
+  transitions: number;
+}
+
+/** Per view, how its difference from full detail changes over the meter's history. */
+export interface MeterChange {
+  silhouetteMean: number;
+  silhouettePeak: number;
+  silhouettePerSecond: number;
+  shadingMean: number;
+  shadingPeak: number;
+  shadingPerSecond: number;
+}
+
+export interface MeterState {
+  on: boolean;
+  /** The meter's picture size per view, `[width, height]` pixels. */
+  size: [number, number];
+  transitions: number;
+  samples: number;
+  /** Frames with no free readback (the next change then counts over two frames). */
+  gaps: number;
+  popping: MethodPop | null;
+  alpha: MethodPop | null;
+  geomorph: MethodPop | null;
+  changes: MeterChange[];
+}
+
+/** What the crowd shows this frame (`mode: 'crowd'`). */
+export interface CrowdState {
+  instances: number;
+  drawn: number;
+  /** Instances drawn at each level. */
+  perLevel: number[];
+  transitions: number;
+  trianglesDrawn: number;
+  trianglesFull: number;
+  viewTriangles: number[];
+  paletteRows: number;
+}
+
+/** `viewer.state()`: what the views show, with the settings in force. */
+export interface ViewerState {
+  backend: 'webgpu' | 'webgl2';
+  adapter: string;
+  format: string;
+  msaa: number;
+  composed: boolean;
+  width: number;
+  height: number;
+  /** Triangles of the full mesh. */
+  triangles: number;
+  joints: number;
+  clips: string[];
+  clipDurations: number[];
+  /** Index into `clips`, or null for the rest pose. */
+  clip: number | null;
+  /** Finest first; one entry (the full mesh) until the levels arrive. `error` in model units. */
+  levels: { triangles: number; error: number }[];
+  /** Each level's switch distance, × the framing distance. */
+  switch: number[];
+  /** Where and why the levels stop short of the coarsest count asked for (a sentence), or null. */
+  levelsStop: string | null;
+  buildMs: number;
+  builtOffMainThread: boolean;
+  /** Null until the levels are attached; then where they came from. */
+  lodFrom: 'build' | 'cache' | 'inline' | null;
+  /** The level the camera distance selects. */
+  selected: number;
+  /** × the framing distance. */
+  distance: number;
+  animTime: number;
+  paused: boolean;
+  speed: number;
+  /** Degrees. */
+  yaw: number;
+  pitch: number;
+  pan: [number, number];
+  distanceMode: 'dolly' | 'manual';
+  overlay: 'none' | 'wireframe' | 'levels' | 'skeleton' | 'difference';
+  transition: 'time' | 'distance';
+  duration: number;
+  zone: number;
+  transitionSpeed: number;
+  magnify: number;
+  meter: MeterState;
+  /** The continuous slider's triangle count, or null when off. */
+  continuousTriangles: number | null;
+  /** The slider's range: the full mesh's triangles once the levels are there, else 0. */
+  maxTriangles: number;
+  stacked: boolean;
+  views: ViewState[];
+  frames: number;
+  morphTargets: number;
+  morphs: boolean;
+  mode: 'single' | 'crowd';
+  crowd: CrowdState | null;
+  errors: string[];
+  warnings: string[];
+}
+
+/** `viewer.setState(settings)`: any subset; an unknown key or a bad value throws, and nothing changes. */
+export interface ViewerSettings {
+  paused?: boolean;
+  /** Animation seconds. */
+  time?: number;
+  speed?: number;
+  /** A clip name. */
+  clip?: string;
+  distanceMode?: 'dolly' | 'manual';
+  /** × the framing distance (switches to manual). */
+  distance?: number;
+  dollyPeriod?: number;
+  /** Degrees; pitch is clamped to ±85. */
+  yaw?: number;
+  pitch?: number;
+  /** `[x, y]` in framing distances, each in [-100, 100]. */
+  pan?: [number, number];
+  resetCamera?: boolean;
+  /** Pixels of screen error at which a level switches. */
+  tolerance?: number;
+  hysteresis?: number;
+  transition?: 'time' | 'distance';
+  /** Seconds per level. */
+  duration?: number;
+  zone?: number;
+  /** 0.01..1: slow motion of the transitions alone. */
+  transitionSpeed?: number;
+  /** 1..16. */
+  magnify?: number;
+  meter?: boolean;
+  variant?: 'naive' | 'opaque-first' | 'dither';
+  /** One to three methods: the views, in order. */
+  methods?: Method[];
+  /** A triangle count through the progressive mesh, or null for off. */
+  continuousTriangles?: number | null;
+  overlay?: 'none' | 'wireframe' | 'levels' | 'skeleton' | 'difference';
+  mode?: 'single' | 'crowd';
+  /** False: the crowd at full detail. */
+  crowdLod?: boolean;
+  /** False: the base shape, morph weights ignored. */
+  morphs?: boolean;
+  /** Crowd instances, 1..4096. */
+  count?: number;
+}
+
+/** `measurePopSpike(options)`'s result: each method's largest frame-to-frame mean |ΔRGB| per pixel
+ * (0..765) through one LOD switch, null for a method no view shows. */
+export interface PopSpike {
+  popping: number | null;
+  alpha: number | null;
+  geomorph: number | null;
+  variant: 'naive' | 'opaque-first' | 'dither';
+  level: number;
+  frames: number;
+  /** Where the switch was placed, × the framing distance, and the distance swept (fraction). */
+  at: number;
+  sweep: number;
+  /** Seconds the measurement took. */
+  duration: number;
+  /** Per view: its method, its largest change and the change at every frame. */
+  views: { method: Method; largest: number; series: number[] }[];
+}
+
+/** A model to show: a `.glb`, or a `.gltf` with its buffers and images by file name. */
+export interface ModelSource {
+  name: string;
+  bytes: Uint8Array;
+  resources?: Map<string, Uint8Array>;
+}
+
+/** The element's own events (it fires the usual DOM events too). */
+export interface ClodViewerEventMap {
+  progress: CustomEvent<{ phase: 'fetch' | 'gpu' | 'build' | 'ready'; fraction: number }>;
+  /** The full mesh is drawn from now on. */
+  load: CustomEvent<ViewerState>;
+  /** The levels are attached (`lodFrom` 'build' or 'cache'). */
+  lod: CustomEvent<ViewerState>;
+  error: CustomEvent<{ message: string }>;
+  /** The live meter measured a transition. */
+  meter: CustomEvent<{ popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null }>;
+  camerachange: CustomEvent<undefined>;
+}
+
+/** `<clod-viewer src clip modes variant tolerance backend autoplay loading mode count manual-frames>`. */
+export class ClodViewerElement extends HTMLElement {
+  static observedAttributes: string[];
+  /** The canvas the views are drawn on. */
+  readonly canvas: HTMLCanvasElement | null;
+  /** `webgpu` or `webgl2` once loaded. */
+  readonly backend: 'webgpu' | 'webgl2' | null;
+  /** Mean time between drawn frames, ms (0 before two frames). */
+  readonly frameMs: number;
+  /** Attribute values the model shown cannot take, each with the reason: they were ignored. */
+  readonly ignoredSettings: string[];
+  play(): void;
+  pause(): void;
+  setTime(seconds: number): void;
+  setState(settings: ViewerSettings): void;
+  state(): ViewerState;
+  meter(): { popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null };
+  meterHistory(): { methods: Method[]; samples: (number | boolean)[][] };
+  measurePopSpike(options?: { level?: number; frames?: number; sweep?: number; at?: number }): Promise<PopSpike>;
+  /** Draws one frame at `nowMs` (with `manual-frames`) and returns the state. */
+  renderFrame(nowMs: number): ViewerState;
+  /** The current frame: RGBA8, top row first. */
+  readPixels(): Promise<{ width: number; height: number; data: Uint8Array }>;
+  /** Mip levels of material `i`'s base-colour texture, means in linear light. */
+  textureLevels(i: number): Promise<{ width: number; height: number; mean: [number, number, number, number] }[]>;
+  /** Resolves when the GPU has finished the submitted frames. */
+  finish(): Promise<void>;
+  /** A PNG of the current frame with the views' labels. */
+  screenshot(): Promise<Blob>;
+  /** Shows another model; on failure the previous one keeps playing. */
+  load(source: ModelSource): Promise<ViewerState>;
+  addEventListener<K extends keyof ClodViewerEventMap>(
+    type: K,
+    listener: (this: ClodViewerElement, event: ClodViewerEventMap[K]) => unknown,
+    options?: boolean | AddEventListenerOptions,
+  ): void;
+  addEventListener(type: string, listener: EventListenerOrEventListenerObject, options?: boolean | AddEventListenerOptions): void;
+}
+
+/** Loads (once per page) the wasm build of a backend. */
+export function loadBuild(backend: 'webgpu' | 'webgl2'): Promise<{ module: unknown; url: string }>;
+/** Whether this browser hands out a WebGPU adapter. */
+export function webgpuWorks(): Promise<boolean>;
+/** A `.gltf` resolver over dropped files: the bytes of a URI's file, or null. */
+export function resolverFor(resources: Map<string, Uint8Array> | undefined): (uri: string) => Uint8Array | null;
+/** `pop blend morph` (one to three, any of `pop|popping`, `blend|alpha`, `morph|geomorph`) as methods. */
+export function parseModes(text: string): Method[];
+
+declare global {
+  interface HTMLElementTagNameMap {
+    'clod-viewer': ClodViewerElement;
+  }
+}
