@@ -407,7 +407,7 @@ fn parse_clod_options(
     let max_error = get("maxError");
     if !max_error.is_undefined() {
         match max_error.as_f64() {
-            Some(e) if e > 0.0 => out.max_error = e as f32,
+            Some(e) if e > 0.0 => out.max_relative_error = e as f32,
             _ => {
                 return Err(JsError::new(&format!(
                     "maxError must be a positive fraction of the diagonal, got {max_error:?}"

@@ -272,7 +272,7 @@ fn the_floor_skips_every_collapse_costlier_than_the_max_error() {
             &character,
             &ClodOptions {
                 level_triangles: levels,
-                max_error: f32::INFINITY,
+                max_relative_error: f32::INFINITY,
                 schedule,
                 ..Default::default()
             },
@@ -317,7 +317,7 @@ fn bad_options_are_errors_that_say_what_is_wrong() {
     let err = clod::build(&character, &bad_clip, &mut |_| {}).unwrap_err().to_string();
     assert!(err.contains("Dance") && err.contains("Anim_0_Armature"), "{err}");
     for bad in [0.0, -1.0, f32::NAN] {
-        let options = ClodOptions { max_error: bad, ..Default::default() };
+        let options = ClodOptions { max_relative_error: bad, ..Default::default() };
         let err = clod::build(&character, &options, &mut |_| {}).unwrap_err().to_string();
         assert!(err.contains("maximum error"), "{err}");
     }

@@ -293,7 +293,7 @@ fn chain_options(mode: CollapseMode) -> ClodOptions {
         pose: SimplificationPose::Bind,
         level_triangles: Some(vec![8, 4, 2]),
         mode,
-        max_error: f32::INFINITY,
+        max_relative_error: f32::INFINITY,
         ..ClodOptions::default()
     }
 }

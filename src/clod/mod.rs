@@ -38,24 +38,37 @@ pub use poses::SimplificationPose;
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClodOptions {
     /// The static pose simplification runs in.
+    ///
+    /// Default value: [`SimplificationPose::MultiPose`] with
+    /// [`poses::DEFAULT_FRAMES_PER_CLIP`] frames of each clip.
     pub pose: SimplificationPose,
-    /// Triangle counts of the discrete levels, finest first; `None` for [`default_level_triangles`].
+    /// Triangle counts of the discrete levels, finest first.
+    ///
+    /// Default value: `None`, for [`default_level_triangles`].
     pub level_triangles: Option<Vec<usize>>,
     /// Optimal placement, or half-edge collapses (every level a subset of the input vertices).
+    ///
+    /// Default value: [`CollapseMode::Full`].
     pub mode: CollapseMode,
     /// Skin weights of the vertices collapses create.
+    ///
+    /// Default value: [`WeightRule::Blend`].
     pub weights: WeightRule,
-    /// The floor of the progressive mesh: simplification makes no collapse whose error (root
-    /// mean square over the collapsing pair's area, quadric-measured) exceeds this fraction of
-    /// the bounding-box diagonal, and ends when only such collapses are left.
-    /// [`DEFAULT_MAX_ERROR`] by default; `f32::INFINITY` simplifies as far as the topology
-    /// allows.
-    pub max_error: f32,
-    /// The order of collapses: strictly cheapest first (the default) or batched passes.
+    /// The floor of the progressive mesh, as a fraction of the bounding-box diagonal (a
+    /// distance, not its square; the simplifier's [`SimplifyOptions::max_mean_squared_error`]
+    /// is this times the diagonal, squared): simplification makes no collapse whose error (root
+    /// mean square over the collapsing pair's area, quadric-measured) exceeds it, and ends when
+    /// only such collapses are left. `f32::INFINITY` simplifies as far as the topology allows.
+    ///
+    /// Default value: [`DEFAULT_MAX_ERROR`] (5 %).
+    pub max_relative_error: f32,
+    /// The order of collapses: strictly cheapest first, or batched passes.
+    ///
+    /// Default value: [`Schedule::Strict`].
     pub schedule: Schedule,
 }
 
-/// Default [`ClodOptions::max_error`]: 5 % of the diagonal. Near the end of a simplification the
+/// Default [`ClodOptions::max_relative_error`]: 5 % of the diagonal. Near the end of a simplification the
 /// collapse that removes a whole limb costs far more than the ones before it. Measured on the
 /// bind-pose builds (square root of each collapse's cost): CesiumMan's collapses stay at or below
 /// 5.1 % until an arm goes at 10 % (at 194 triangles its Hausdorff distance was 12.3 % of the
@@ -89,7 +102,7 @@ impl Default for ClodOptions {
             level_triangles: None,
             mode: CollapseMode::Full,
             weights: WeightRule::default(),
-            max_error: DEFAULT_MAX_ERROR,
+            max_relative_error: DEFAULT_MAX_ERROR,
             schedule: Schedule::Strict,
         }
     }
@@ -190,8 +203,8 @@ pub fn build(
         }
         None => default_level_triangles(mesh.triangle_count()),
     };
-    if options.max_error.is_nan() || options.max_error <= 0.0 {
-        return Err(ClodError::BadMaxError(options.max_error));
+    if options.max_relative_error.is_nan() || options.max_relative_error <= 0.0 {
+        return Err(ClodError::BadMaxError(options.max_relative_error));
     }
     progress(0.0);
 
@@ -228,8 +241,9 @@ pub fn build(
         target_triangles: *levels.last().expect("levels are not empty"),
         normal_channel: Some(0),
         // Costs are mean squared errors in position units².
-        max_mean_squared_error: (options.max_error * crate::metrics::bounds_diagonal(&input.positions))
-            .powi(2),
+        max_mean_squared_error: (options.max_relative_error
+            * crate::metrics::bounds_diagonal(&input.positions))
+        .powi(2),
         schedule: options.schedule,
     };
     let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {
@@ -566,7 +580,7 @@ fn blend_influences(
 
 impl Clod {
     /// Why the coarsest level has more triangles than the build asked for, if it has: the
-    /// error limit ([`ClodOptions::max_error`]) or the mesh's locks stopped the simplifier first.
+    /// error limit ([`ClodOptions::max_relative_error`]) or the mesh's locks stopped the simplifier first.
     pub fn stopped_short(&self) -> Option<StoppedShort> {
         StoppedShort::of(&self.apm.pm)
     }

@@ -93,16 +93,26 @@ pub enum Schedule {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimplifyOptions {
     /// Vertex placement.
+    ///
+    /// Default value: [`CollapseMode::Full`].
     pub mode: CollapseMode,
     /// Stop once at most this many triangles are left; `0` simplifies as far as possible.
+    ///
+    /// Default value: `0`.
     pub target_triangles: usize,
     /// Make no collapse whose mean squared error (over the area of its two classes, position
     /// units²) exceeds this: such collapses are skipped, and the run ends when only they are
-    /// left. Infinite by default.
+    /// left.
+    ///
+    /// Default value: `f32::INFINITY`.
     pub max_mean_squared_error: f32,
     /// First of three attribute channels holding a normal, renormalised after interpolation.
+    ///
+    /// Default value: `None`.
     pub normal_channel: Option<usize>,
-    /// The order of collapses. Default value: [`Schedule::Strict`].
+    /// The order of collapses.
+    ///
+    /// Default value: [`Schedule::Strict`].
     pub schedule: Schedule,
 }
 
