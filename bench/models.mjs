@@ -60,7 +60,9 @@ export function loadModel(path) {
   const name = basename(path);
   try {
     if (/\.glb$/i.test(path)) {
-      return { name, path, json: glbJson(bytes), character: api.Character.fromGlb(bytes) };
+      // The importer first: its message names what is wrong with a broken file.
+      const character = api.Character.fromGlb(bytes);
+      return { name, path, json: glbJson(bytes), character };
     }
     const json = JSON.parse(new TextDecoder().decode(bytes).replace(/^\uFEFF/, ''));
     const folder = dirname(path);

@@ -5,6 +5,7 @@ import assert from 'node:assert/strict';
 import { mkdtempSync, mkdirSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { basename, join } from 'node:path';
+import { measure, SHORT } from '../../bench/animated-vs-meshoptimizer.mjs';
 import { glbJson, loadModel, modelPaths } from '../../bench/models.mjs';
 import { modelBytes } from './models.mjs';
 
@@ -55,4 +56,17 @@ test('by default: the three shared models first, then the named assets', (t) => 
   const names = modelPaths([], ['character.glb']).map((p) => basename(p));
   assert.deepEqual(names.slice(0, 3), ['CesiumMan.glb', 'Fox.glb', 'RiggedSimple.glb']);
   assert.equal(names.at(-1), 'character.glb');
+});
+
+test('a file that does not import is skipped with the importer\'s message, and the others still run', async () => {
+  const folder = mkdtempSync(join(tmpdir(), 'bench-models-'));
+  try {
+    writeFileSync(join(folder, 'broken.glb'), 'not a glb');
+    assert.throws(() => loadModel(join(folder, 'broken.glb')), /broken\.glb: broken GLB file/);
+    const [broken] = await measure(SHORT, [join(folder, 'broken.glb')]);
+    assert.equal(broken.name, 'broken.glb');
+    assert.match(broken.skipped, /broken GLB file/);
+  } finally {
+    rmSync(folder, { recursive: true });
+  }
 });
