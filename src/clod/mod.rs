@@ -315,7 +315,7 @@ impl PoseInput {
                 (Some(skin), Some(m), positions, normals)
             }
         };
-        let triangle_materials = triangle_materials(character);
+        let triangle_materials = material_ids(character);
         let weld = shading::ShadingWeld::new(mesh, &triangle_materials);
         let indices = weld.weld_indices(&mesh.indices);
         let normals = weld.simplifier_normals(&normals);
@@ -426,7 +426,7 @@ fn interleave_attributes(character: &Character, normals: &[Vec3], layout: &Attri
 
 /// One id per triangle: its primitive's material (`u32::MAX` for the default material), so
 /// borders between materials are kept and primitives sharing a material may merge.
-pub(crate) fn triangle_materials(character: &Character) -> Vec<u32> {
+pub(crate) fn material_ids(character: &Character) -> Vec<u32> {
     let ids = character.mesh.triangle_materials();
     ids.into_iter().map(|m| m.map_or(u32::MAX, |m| m as u32)).collect()
 }

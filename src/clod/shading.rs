@@ -228,7 +228,7 @@ impl ShadingWeld {
     /// [`ShadingWeld::new`] with the character's per-primitive materials, as the chain's build
     /// welds it.
     pub fn of_character(character: &crate::Character) -> Self {
-        Self::new(&character.mesh, &super::triangle_materials(character))
+        Self::new(&character.mesh, &super::material_ids(character))
     }
 
     /// Whether any vertex is flat.
