@@ -48,93 +48,8 @@ pub(crate) fn read_clips(
                 continue;
             }
             let Some(slot) = slots.get(node).copied().flatten() else { continue };
-            let sampler = anim.samplers.get(channel.sampler.value()).ok_or_else(|| {
-                ImportError::Invalid(format!("animation '{name}' channel {c} names a missing sampler"))
-            })?;
-            let interpolation = match sampler.interpolation {
-                Checked::Valid(JsonInterpolation::Step) => Interpolation::Step,
-                Checked::Valid(JsonInterpolation::Linear) => Interpolation::Linear,
-                Checked::Valid(JsonInterpolation::CubicSpline) => Interpolation::CubicSpline,
-                Checked::Invalid => {
-                    return Err(ImportError::Invalid(format!(
-                        "animation '{name}' channel {c} has an unknown interpolation"
-                    )))
-                }
-            };
-            let target = format!("{} of node '{}'", property_name(property), node_name(src.root, node));
-            let usage = |what: &str| format!("{what} of animation '{name}' channel {c}");
-            let times =
-                read_floats(src, sampler.input.value(), &usage("key times"), &[Type::Scalar], MAX_KEYS)?;
-            // Cubic splines store in-tangent, value and out-tangent per key.
-            let max_values =
-                if interpolation == Interpolation::CubicSpline { 3 * MAX_KEYS } else { MAX_KEYS };
-            let curve_error = |source: CurveError| ImportError::Animation {
-                clip: name.clone(),
-                channel: c,
-                target: target.clone(),
-                source,
-            };
-            let curve = match property {
-                Property::Translation | Property::Scale => {
-                    let out = read_floats(
-                        src,
-                        sampler.output.value(),
-                        &usage("key values"),
-                        &[Type::Vec3],
-                        max_values,
-                    )?;
-                    let values = out.values.chunks_exact(3).map(Vec3::from_slice).collect();
-                    let curve = Curve::new(times.values, values, interpolation).map_err(curve_error)?;
-                    match property {
-                        Property::Translation => ChannelCurve::Translation(curve),
-                        _ => ChannelCurve::Scale(curve),
-                    }
-                }
-                Property::MorphTargetWeights => {
-                    let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
-                    let targets = morph_targets.expect("checked above");
-                    // Any number of weights per key: bounded by the targets the node has.
-                    let max_values = max_values.saturating_mul(targets.len().max(1));
-                    let out = read_floats(
-                        src,
-                        sampler.output.value(),
-                        &usage("key values"),
-                        &[Type::Scalar],
-                        max_values,
-                    )?;
-                    let keys = times.values.len();
-                    let weights = out.values.len().checked_div(keys * per_key).unwrap_or(0);
-                    if weights == 0 || weights * keys * per_key != out.values.len() {
-                        return Err(curve_error(CurveError::CountMismatch {
-                            times: keys,
-                            values: out.values.len(),
-                            expected: keys * per_key * targets.len(),
-                        }));
-                    }
-                    for (k, driven) in targets.iter().enumerate().take(weights) {
-                        let values = weight_keys(&out.values, weights, k, per_key);
-                        let curve =
-                            Curve::new(times.values.clone(), values, interpolation).map_err(curve_error)?;
-                        let curve = ChannelCurve::MorphWeight { targets: driven.clone(), curve };
-                        channels.push(Channel { node: slot, curve });
-                    }
-                    continue;
-                }
-                Property::Rotation => {
-                    let out = read_floats(
-                        src,
-                        sampler.output.value(),
-                        &usage("key values"),
-                        &[Type::Vec4],
-                        max_values,
-                    )?;
-                    let values = rotation_keys(&out.values, interpolation).map_err(curve_error)?;
-                    ChannelCurve::Rotation(
-                        Curve::new(times.values, values, interpolation).map_err(curve_error)?,
-                    )
-                }
-            };
-            channels.push(Channel { node: slot, curve });
+            let to = ChannelTarget { clip: &name, index: c, node, slot, property, morph_targets };
+            read_channel(src, anim, channel, &to, &mut channels)?;
         }
         if dropped_weights {
             warnings.push(format!(
@@ -145,6 +60,102 @@ pub(crate) fn read_clips(
         clips.push(Clip::new(name, channels));
     }
     Ok(clips)
+}
+
+/// Where a channel writes: its clip and index (for messages), the node it animates and that
+/// node's skeleton slot, the property, and the node's morph targets by weight index (for a
+/// `weights` channel, which the caller drops for a node without them).
+struct ChannelTarget<'a> {
+    clip: &'a str,
+    index: usize,
+    node: usize,
+    slot: usize,
+    property: Property,
+    morph_targets: Option<&'a Vec<Vec<u32>>>,
+}
+
+/// Reads one channel's sampler into `out`: one [`Channel`], or one per weight for a `weights`
+/// channel.
+///
+/// # Errors
+/// A missing sampler or unknown interpolation, bad accessors, or keys that make no valid curve.
+fn read_channel(
+    src: Source,
+    anim: &gltf_json::Animation,
+    channel: &gltf_json::animation::Channel,
+    to: &ChannelTarget,
+    out: &mut Vec<Channel>,
+) -> Result<(), ImportError> {
+    let (clip, c) = (to.clip, to.index);
+    let sampler = anim.samplers.get(channel.sampler.value()).ok_or_else(|| {
+        ImportError::Invalid(format!("animation '{clip}' channel {c} names a missing sampler"))
+    })?;
+    let interpolation = match sampler.interpolation {
+        Checked::Valid(JsonInterpolation::Step) => Interpolation::Step,
+        Checked::Valid(JsonInterpolation::Linear) => Interpolation::Linear,
+        Checked::Valid(JsonInterpolation::CubicSpline) => Interpolation::CubicSpline,
+        Checked::Invalid => {
+            return Err(ImportError::Invalid(format!(
+                "animation '{clip}' channel {c} has an unknown interpolation"
+            )))
+        }
+    };
+    let target = format!("{} of node '{}'", property_name(to.property), node_name(src.root, to.node));
+    let usage = |what: &str| format!("{what} of animation '{clip}' channel {c}");
+    let times = read_floats(src, sampler.input.value(), &usage("key times"), &[Type::Scalar], MAX_KEYS)?;
+    // Cubic splines store in-tangent, value and out-tangent per key.
+    let max_values = if interpolation == Interpolation::CubicSpline { 3 * MAX_KEYS } else { MAX_KEYS };
+    let curve_error = |source: CurveError| ImportError::Animation {
+        clip: clip.to_string(),
+        channel: c,
+        target: target.clone(),
+        source,
+    };
+    let key_values =
+        |kind: Type, max: usize| read_floats(src, sampler.output.value(), &usage("key values"), &[kind], max);
+    let curve = match to.property {
+        Property::Translation | Property::Scale => {
+            let values =
+                key_values(Type::Vec3, max_values)?.values.chunks_exact(3).map(Vec3::from_slice).collect();
+            let curve = Curve::new(times.values, values, interpolation).map_err(curve_error)?;
+            match to.property {
+                Property::Translation => ChannelCurve::Translation(curve),
+                _ => ChannelCurve::Scale(curve),
+            }
+        }
+        Property::Rotation => {
+            let values = rotation_keys(&key_values(Type::Vec4, max_values)?.values, interpolation)
+                .map_err(curve_error)?;
+            ChannelCurve::Rotation(Curve::new(times.values, values, interpolation).map_err(curve_error)?)
+        }
+        Property::MorphTargetWeights => {
+            let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+            let targets = to.morph_targets.expect("the caller drops weights of nodes without targets");
+            // Any number of weights per key: bounded by the targets the node has.
+            let values = key_values(Type::Scalar, max_values.saturating_mul(targets.len().max(1)))?.values;
+            let keys = times.values.len();
+            let weights = values.len().checked_div(keys * per_key).unwrap_or(0);
+            if weights == 0 || weights * keys * per_key != values.len() {
+                return Err(curve_error(CurveError::CountMismatch {
+                    times: keys,
+                    values: values.len(),
+                    expected: keys * per_key * targets.len(),
+                }));
+            }
+            for (k, driven) in targets.iter().enumerate().take(weights) {
+                let weight_values = weight_keys(&values, weights, k, per_key);
+                let curve =
+                    Curve::new(times.values.clone(), weight_values, interpolation).map_err(curve_error)?;
+                out.push(Channel {
+                    node: to.slot,
+                    curve: ChannelCurve::MorphWeight { targets: driven.clone(), curve },
+                });
+            }
+            return Ok(());
+        }
+    };
+    out.push(Channel { node: to.slot, curve });
+    Ok(())
 }
 
 fn property_name(p: Property) -> &'static str {
