@@ -312,22 +312,24 @@ fn read_primitive(
         let (v, p) = (file_vertex(v), positions[v]);
         return Err(prim_error(label, format!("vertex {v} has a non-finite position {p}")));
     }
-    let same_count = |name: &str, e: &Elements<f32>| -> Result<(), ImportError> {
-        match e.count() == count {
-            true => Ok(()),
-            false => {
-                Err(prim_error(label, format!("{name} has {} elements but POSITION has {count}", e.count())))
-            }
-        }
+    let same_count = |name: &str, elements: usize| match elements == count {
+        true => Ok(()),
+        false => Err(prim_error(label, format!("{name} has {elements} elements but POSITION has {count}"))),
+    };
+    // A per-vertex float attribute: one element per vertex, the rows this primitive uses.
+    let read_rows = |shared: &mut SharedReads, a: usize, name: &str, types: &[Type]| {
+        let e = shared.floats(src, a, &usage(name), types, MAX_VERTICES)?;
+        same_count(name, e.count())?;
+        Ok::<_, ImportError>(pick(e))
+    };
+    let finite = |first_bad: Option<usize>, what: &str| match first_bad {
+        None => Ok(()),
+        Some(v) => Err(prim_error(label, format!("vertex {} has a non-finite {what}", file_vertex(v)))),
     };
     let normals = match attribute(Semantic::Normals) {
         Some(a) => {
-            let e = shared.floats(src, a, &usage("NORMAL"), &[Type::Vec3], MAX_VERTICES)?;
-            same_count("NORMAL", &e)?;
-            let normals = to_vec3(&pick(e));
-            if let Some(v) = normals.iter().position(|n| !n.is_finite()) {
-                return Err(prim_error(label, format!("vertex {} has a non-finite normal", file_vertex(v))));
-            }
+            let normals = to_vec3(&read_rows(shared, a, "NORMAL", &[Type::Vec3])?);
+            finite(normals.iter().position(|n| !n.is_finite()), "normal")?;
             Some(normals)
         }
         None => None,
@@ -347,35 +349,25 @@ fn read_primitive(
     };
     let uvs = match attribute(Semantic::TexCoords(set)) {
         Some(a) => {
-            let name = format!("TEXCOORD_{set}");
-            let e = shared.floats(src, a, &usage(&name), &[Type::Vec2], MAX_VERTICES)?;
-            same_count(&name, &e)?;
             let transform = base_color_uv_transform(src.root, material);
-            let uvs: Vec<Vec2> = pick(e)
+            let uvs: Vec<Vec2> = read_rows(shared, a, &format!("TEXCOORD_{set}"), &[Type::Vec2])?
                 .values
                 .chunks_exact(2)
                 .map(|c| transform.transform_point2(Vec2::new(c[0], c[1])))
                 .collect();
-            if let Some(v) = uvs.iter().position(|t| !t.is_finite()) {
-                let v = file_vertex(v);
-                return Err(prim_error(label, format!("vertex {v} has a non-finite texture coordinate")));
-            }
+            finite(uvs.iter().position(|t| !t.is_finite()), "texture coordinate")?;
             Some(uvs)
         }
         None => None,
     };
     let colors = match attribute(Semantic::Colors(0)) {
         Some(a) => {
-            let e = shared.floats(src, a, &usage("COLOR_0"), &[Type::Vec3, Type::Vec4], MAX_VERTICES)?;
-            same_count("COLOR_0", &e)?;
-            let e = pick(e);
+            let e = read_rows(shared, a, "COLOR_0", &[Type::Vec3, Type::Vec4])?;
             let colors: Vec<Vec4> = match e.components {
                 3 => e.values.chunks_exact(3).map(|c| Vec4::new(c[0], c[1], c[2], 1.0)).collect(),
                 _ => e.values.chunks_exact(4).map(Vec4::from_slice).collect(),
             };
-            if let Some(v) = colors.iter().position(|c| !c.is_finite()) {
-                return Err(prim_error(label, format!("vertex {} has a non-finite colour", file_vertex(v))));
-            }
+            finite(colors.iter().position(|c| !c.is_finite()), "colour")?;
             Some(colors)
         }
         None => None,
@@ -385,17 +377,11 @@ fn read_primitive(
         let (Some(j), Some(w)) = (attribute(Semantic::Joints(set)), attribute(Semantic::Weights(set))) else {
             break;
         };
-        let joints = shared.uints(src, j, &usage(&format!("JOINTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
-        let weights =
-            shared.floats(src, w, &usage(&format!("WEIGHTS_{set}")), &[Type::Vec4], MAX_VERTICES)?;
-        same_count(&format!("WEIGHTS_{set}"), &weights)?;
-        if joints.count() != count {
-            return Err(prim_error(
-                label,
-                format!("JOINTS_{set} has {} elements but POSITION has {count}", joints.count()),
-            ));
-        }
-        influence_sets.push((pick_rows(joints, rows.as_deref()), pick(weights)));
+        let name = format!("JOINTS_{set}");
+        let joints = shared.uints(src, j, &usage(&name), &[Type::Vec4], MAX_VERTICES)?;
+        same_count(&name, joints.count())?;
+        let weights = read_rows(shared, w, &format!("WEIGHTS_{set}"), &[Type::Vec4])?;
+        influence_sets.push((pick_rows(joints, rows.as_deref()), weights));
     }
 
     Ok(Some(Primitive {
