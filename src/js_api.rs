@@ -43,14 +43,20 @@ impl Character {
     /// Throws an `Error` naming the problem (including a URI the resolver could not supply).
     #[wasm_bindgen(js_name = fromGltf)]
     pub fn from_gltf(json: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
-        let mut resolver = |uri: &str| -> Option<Vec<u8>> {
-            let value = resolve.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
-            if value.is_null() || value.is_undefined() {
-                return None;
-            }
-            Some(js_sys::Uint8Array::new(&value).to_vec())
-        };
+        let mut resolver = resolver_of(resolve);
         let inner = import::from_gltf(json, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
+        Ok(Character { inner: Rc::new(inner) })
+    }
+
+    /// Loads either form, a `.glb` or a `.gltf`, telling them apart by the first bytes (the GLB
+    /// magic `glTF`); `resolve(uri)` supplies a `.gltf`'s external files as for
+    /// [`Character::from_gltf`] (a `.glb` with everything inside never calls it).
+    ///
+    /// Throws an `Error` naming the problem.
+    #[wasm_bindgen(js_name = fromBytes)]
+    pub fn from_bytes(bytes: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
+        let mut resolver = resolver_of(resolve);
+        let inner = import::from_bytes(bytes, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
 
@@ -467,6 +473,17 @@ fn flatten(v: &[glam::Vec3]) -> Vec<f32> {
 /// from `samples` seeded points on each: `{ mean, hausdorff }` in model units.
 ///
 /// Throws when indices are out of range or either mesh has no area.
+/// A Rust resolver over a JS `resolve(uri) → Uint8Array | null | undefined`.
+fn resolver_of(resolve: &js_sys::Function) -> impl FnMut(&str) -> Option<Vec<u8>> + '_ {
+    |uri: &str| {
+        let value = resolve.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
+        if value.is_null() || value.is_undefined() {
+            return None;
+        }
+        Some(js_sys::Uint8Array::new(&value).to_vec())
+    }
+}
+
 #[wasm_bindgen(js_name = surfaceDistance)]
 pub fn surface_distance(
     positions_a: &[f32],

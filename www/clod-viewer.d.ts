@@ -102,6 +102,8 @@ export interface ViewerState {
   selected: number;
   /** × the framing distance. */
   distance: number;
+  /** The cameras' vertical field of view, radians. */
+  fovy: number;
   animTime: number;
   paused: boolean;
   speed: number;

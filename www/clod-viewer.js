@@ -700,12 +700,13 @@ export class ClodViewerElement extends HTMLElement {
   }
 
   // CSS pixels per framing distance in the plane looked at, so a pan moves the character with the
-  // pointer: a view spans 2 tan(fovy / 2) = 0.83 (fovy 45°) × the camera distance.
+  // pointer: a view spans 2 tan(fovy / 2) × the camera distance (fovy from the viewer's state).
   #viewHeight() {
     const state = this.#lastState;
     const dpr = this.#canvas.width / this.#canvas.clientWidth || 1;
     const pixels = state?.views[0] ? state.views[0].rect[3] / dpr : this.#canvas.clientHeight;
-    return Math.max(1, pixels) / (0.83 * (state?.distance ?? 1));
+    const span = 2 * Math.tan((state?.fovy ?? Math.PI / 4) / 2);
+    return Math.max(1, pixels) / (span * (state?.distance ?? 1));
   }
 
   #wireInput() {

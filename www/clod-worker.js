@@ -13,15 +13,14 @@ function load(moduleUrl) {
   return builds.get(moduleUrl);
 }
 
-const GLB_MAGIC = [0x67, 0x6c, 0x54, 0x46]; // "glTF"
-
 self.onmessage = async ({ data: { id, moduleUrl, name, bytes, resources } }) => {
   let character = null;
   try {
     const { Character } = await load(moduleUrl);
-    const isGlb = GLB_MAGIC.every((b, i) => bytes[i] === b);
+    // A .gltf's files were dropped with it: by the URI as written, else by its last path segment
+    // (as `resolverFor` in clod-viewer.js, which a worker cannot import).
     const resolve = (uri) => resources?.get(uri) ?? resources?.get(decodeURIComponent(uri.split('/').pop())) ?? null;
-    character = isGlb ? Character.fromGlb(bytes) : Character.fromGltf(bytes, resolve);
+    character = Character.fromBytes(bytes, resolve);
     const started = performance.now();
     const clod = character.buildClodBytes({}, (fraction) => self.postMessage({ id, type: 'progress', fraction }));
     const buildMs = performance.now() - started;

@@ -119,7 +119,7 @@ impl Inner {
             concat!(
                 "{{\"backend\":{},\"adapter\":{},\"format\":{},\"msaa\":{},\"composed\":{},\"width\":{},\"height\":{},",
                 "\"triangles\":{},\"joints\":{},\"clips\":[{}],\"clipDurations\":[{}],\"clip\":{},\"levels\":[{}],\"switch\":[{}],\"levelsStop\":{},\"buildMs\":{},\"builtOffMainThread\":{},\"lodFrom\":{},",
-                "\"selected\":{},\"distance\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
+                "\"selected\":{},\"distance\":{},\"fovy\":{},\"animTime\":{},\"paused\":{},\"speed\":{},",
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
                 "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
@@ -145,6 +145,7 @@ impl Inner {
             self.lod_from.map_or("null".to_string(), json_str),
             state.selected,
             num(state.distance),
+            num(crate::render::camera::FOVY),
             num(m.anim_time as f32),
             s.paused,
             num(s.speed),

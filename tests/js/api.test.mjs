@@ -97,6 +97,13 @@ test('a .gltf with an external buffer loads through the resolver', (t) => {
   assert.deepEqual(asked, ['external data.bin']);
   assert.equal(character.triangleCount, api.Character.fromGlb(bytes).triangleCount);
   assert.throws(() => api.Character.fromGltf(text, () => null), /external data\.bin/);
+  // fromBytes tells the two forms apart by the GLB magic.
+  for (const [input, resolve] of [[text, (uri) => (uri === 'external data.bin' ? bin : null)], [bytes, () => null]]) {
+    const either = api.Character.fromBytes(input, resolve);
+    assert.deepEqual([...either.bindPositions()], [...character.bindPositions()]);
+    either.free();
+  }
+  assert.throws(() => api.Character.fromBytes(text, () => undefined), /external data\.bin/);
 
   // Without texture coordinates, uvs() is undefined; the normals are the same.
   for (const mesh of json.meshes) for (const primitive of mesh.primitives) delete primitive.attributes.TEXCOORD_0;
