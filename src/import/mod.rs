@@ -58,7 +58,7 @@ pub enum ImportError {
     /// The GLB header or chunk layout is broken (usually a truncated download).
     #[error("broken GLB file: {0}")]
     Glb(String),
-    /// The file itself could not be read from disk ([`from_file`]).
+    /// The file itself could not be read from disk (`from_file`, native only).
     #[error("cannot read {path}: {reason}")]
     Unreadable { path: String, reason: String },
     /// The JSON does not parse as a glTF document.
