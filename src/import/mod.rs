@@ -58,7 +58,7 @@ pub enum ImportError {
     /// The GLB header or chunk layout is broken (usually a truncated download).
     #[error("broken GLB file: {0}")]
     Glb(String),
-    /// The file itself could not be read from disk (`from_file`, native only).
+    /// The file itself could not be read from disk ([`from_file`]).
     #[error("cannot read {path}: {reason}")]
     Unreadable { path: String, reason: String },
     /// The JSON does not parse as a glTF document.
@@ -186,13 +186,13 @@ pub fn from_bytes(
 }
 
 /// Imports a `.glb` or `.gltf` file from disk, reading the external buffers and images its URIs
-/// name from paths relative to the file's folder (native only: a browser has no such folder;
-/// there, pass a resolver to [`from_bytes`]).
+/// name from paths relative to the file's folder. For native programs: in a browser (wasm32)
+/// there is no file system and every call gives [`ImportError::Unreadable`]; there, pass the
+/// bytes and a resolver to [`from_bytes`].
 ///
 /// # Errors
 /// [`ImportError::Unreadable`] when the file cannot be read; a URI naming no readable file gives
 /// [`ImportError::MissingResource`]; otherwise as [`from_bytes`].
-#[cfg(not(target_arch = "wasm32"))]
 pub fn from_file(path: &std::path::Path) -> Result<Character, ImportError> {
     let unreadable = |e: std::io::Error| ImportError::Unreadable {
         path: path.display().to_string(),
