@@ -137,8 +137,9 @@ impl Character {
         flatten(&self.inner.mesh.normals)
     }
 
-    /// The first texture coordinate set, uv per vertex (zeros on primitives without one), or
-    /// `undefined` when no primitive has texture coordinates.
+    /// The texture coordinates the base colour texture samples, uv per vertex (zeros on
+    /// primitives without a texture or without that set), or `undefined` when no primitive has
+    /// any: texture coordinates no texture samples draw nothing and are not imported.
     pub fn uvs(&self) -> Option<Vec<f32>> {
         self.inner.mesh.uvs.as_ref().map(|uvs| uvs.iter().flat_map(|uv| uv.to_array()).collect())
     }

@@ -4,6 +4,8 @@
 //! carries normalized skin weights, a closed surface, a UV seam and vertex colours, and stays in
 //! one piece when skinned through every clip.
 
+mod common;
+
 use clod_viewer::import::from_glb;
 use clod_viewer::Character;
 use glam::Vec3;
@@ -134,9 +136,20 @@ fn surface_is_closed_once_welded_and_has_a_uv_seam() {
     let open = edges.iter().filter(|&&(a, b)| edges.binary_search(&(b, a)).is_err()).count();
     assert_eq!(open, 0, "edges without a reverse twin");
 
-    // The seam: within a primitive, vertices sharing a position whose u differs by exactly 1.
-    let uvs = c.mesh.uvs.as_ref().expect("TEXCOORD_0 is imported");
+    // The seam is in TEXCOORD_0, which no material of the file samples: the importer leaves it
+    // out (it draws nothing), so the seam is read from a copy whose materials sample it.
+    assert!(c.mesh.uvs.is_none(), "no texture samples TEXCOORD_0");
     assert!(c.mesh.colors.is_some(), "COLOR_0 is imported");
+    let (mut json, bin) = common::split_glb(GLB);
+    for material in json["materials"].as_array_mut().expect("materials") {
+        material["pbrMetallicRoughness"]["baseColorTexture"] = value(r#"{"index": 0}"#);
+    }
+    json["textures"] = value(r#"[{"source": 0}]"#);
+    json["images"] = value(r#"[{"uri": "data:image/png;base64,iVBORw0KGgo="}]"#);
+    let textured = from_glb(&common::TinyModel { json, bin }.glb()).expect("the textured copy imports");
+    assert_eq!(textured.mesh.positions, c.mesh.positions);
+    // The seam: within a primitive, vertices sharing a position whose u differs by exactly 1.
+    let uvs = textured.mesh.uvs.as_ref().expect("TEXCOORD_0 is imported under a texture");
     let mut seam = 0;
     for prim in &c.mesh.primitives {
         let range = prim.first_index as usize..(prim.first_index + prim.index_count) as usize;
@@ -153,6 +166,10 @@ fn surface_is_closed_once_welded_and_has_a_uv_seam() {
         }
     }
     assert_eq!(seam as f64, quantity("seam vertices"));
+}
+
+fn value(json: &str) -> gltf_json::Value {
+    gltf_json::deserialize::from_str(json).expect("valid JSON")
 }
 
 /// Frames sampled per clip: enough to catch a bad key anywhere in a few-second clip.

@@ -321,3 +321,86 @@ fn a_mesh_without_normals_imports_flat_shaded_as_the_spec_asks() {
     }
     assert!(c.warnings.is_empty(), "{:?}", c.warnings);
 }
+
+/// A bumpy grid of 12 × 12 quads as low-poly exports often write one: every triangle has its own
+/// three vertices, there is no NORMAL (so it is flat-shaded), and TEXCOORD_0 gives every triangle
+/// its own uv island, so every edge is a uv seam. `textured`: a base colour texture samples them.
+fn per_face_uv_grid(textured: bool) -> Vec<u8> {
+    use base64::Engine;
+    const N: u32 = 12;
+    let corner = |i: u32, j: u32| Vec3::new(i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.2);
+    let (mut positions, mut uvs) = (Vec::new(), Vec::new());
+    for j in 0..N {
+        for i in 0..N {
+            let quad = [corner(i, j), corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)];
+            for tri in [[0, 1, 2], [0, 2, 3]] {
+                // Each triangle's island: its own cell of a 24 × 12 atlas.
+                let island = (positions.len() / 3) as f32;
+                for (k, &q) in tri.iter().enumerate() {
+                    positions.extend(quad[q].to_array());
+                    uvs.extend([(island % 24.0 + [0.1, 0.9, 0.9][k]) / 24.0, ([0.1, 0.1, 0.9][k]) / 12.0]);
+                }
+            }
+        }
+    }
+    let count = positions.len() / 3;
+    let mut buffer: Vec<u8> = positions.iter().chain(&uvs).flat_map(|x: &f32| x.to_le_bytes()).collect();
+    let indices_at = buffer.len();
+    buffer.extend((0..count as u32).flat_map(u32::to_le_bytes));
+    let uri = base64::engine::general_purpose::STANDARD.encode(&buffer);
+    let material = if textured {
+        r#""materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}], "images": [{"uri": "atlas.png"}],"#
+    } else {
+        r#""materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.5, 0.2, 1]}}],"#
+    };
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], {material}
+        "nodes": [{{"mesh": 0}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+        "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{uri}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": {}}}, {{"buffer": 0, "byteOffset": {}, "byteLength": {}}},
+                        {{"buffer": 0, "byteOffset": {indices_at}, "byteLength": {}}}],
+        "accessors": [
+          {{"bufferView": 0, "componentType": 5126, "count": {count}, "type": "VEC3", "min": [0, 0, 0], "max": [12, 12, 0.8]}},
+          {{"bufferView": 1, "componentType": 5126, "count": {count}, "type": "VEC2"}},
+          {{"bufferView": 2, "componentType": 5125, "count": {count}, "type": "SCALAR"}}
+        ]}}"#,
+        buffer.len(),
+        12 * count,
+        12 * count,
+        8 * count,
+        4 * count,
+    )
+    .into_bytes()
+}
+
+/// uvs that no texture samples draw nothing, so they do not hold the levels: the untextured grid,
+/// every edge of which is a uv seam, simplifies as far as its shape allows (before, the importer
+/// kept its uvs and it kept all 288 triangles). The same grid under a texture keeps its seams, and
+/// where islands meet nothing may move: it stops within a few collapses, and says why.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn uvs_no_texture_samples_do_not_hold_the_levels() {
+    let build = |textured: bool| {
+        let png = b"\x89PNG\r\n\x1a\n".to_vec();
+        let c = clod_viewer::import::from_gltf(&per_face_uv_grid(textured), &mut |_| Some(png.clone()))
+            .expect("the grid imports");
+        assert_eq!(c.mesh.triangle_count(), 288);
+        assert_eq!(c.mesh.uvs.is_some(), textured);
+        let options = ClodOptions { level_triangles: Some(vec![144, 72, 36]), ..ClodOptions::default() };
+        clod::build(&c, &options, &mut |_| {}).expect("builds")
+    };
+    let untextured = build(false);
+    let counts: Vec<usize> = untextured.levels.iter().map(|l| l.triangle_count()).collect();
+    // Each level at most its count (a collapse removes two triangles, or one on a border).
+    assert!(
+        counts.len() == 3 && counts.iter().zip([144, 72, 36]).all(|(&n, want)| n <= want && n + 2 >= want)
+    );
+    assert_eq!(untextured.stopped_short(), None);
+    let textured = build(true);
+    let coarsest = textured.levels.last().expect("a level").triangle_count();
+    assert!(coarsest > 250, "{coarsest}: only a few collapses at the grid's rim can keep every island");
+    let stop = textured.stopped_short().expect("the textured grid stops short").to_string();
+    assert!(stop.starts_with(&format!("the levels stop at {coarsest} of 288")), "{stop}");
+}

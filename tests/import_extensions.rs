@@ -227,6 +227,35 @@ fn the_base_colour_textures_uv_set_becomes_the_uvs() {
     assert!(c.warnings.iter().any(|w| w.contains("TEXCOORD_3")), "{:?}", c.warnings);
 }
 
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn uvs_no_texture_samples_are_not_imported() {
+    // The same triangle with TEXCOORD_0, under three materials: none, a plain colour, a texture.
+    let with_material = |material: Option<&str>| {
+        let mut model = TinyModel::new();
+        let uvs: Vec<u8> =
+            [[0.1f32, 0.2], [0.3, 0.4], [0.5, 0.6]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+        let view = add_view(&mut model, &uvs);
+        let uv = add_accessor(&mut model, view, 5126, false, "VEC2");
+        model.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = Value::from(uv);
+        if let Some(material) = material {
+            model.json["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+            model.json["materials"] = gltf_json::deserialize::from_str(material).unwrap();
+            model.json["textures"] = gltf_json::deserialize::from_str(r#"[{"source": 0}]"#).unwrap();
+            model.json["images"] = gltf_json::deserialize::from_str(r#"[{"uri": "t.png"}]"#).unwrap();
+        }
+        from_gltf(&model.gltf(), &mut |_| Some(b"\x89PNG\r\n\x1a\n".to_vec())).expect("imports")
+    };
+    for untextured in [None, Some(r#"[{"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}}]"#)] {
+        let c = with_material(untextured);
+        assert_eq!(c.mesh.uvs, None, "{untextured:?}");
+        // Nothing the viewer draws is dropped, so nothing is said.
+        assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    }
+    let c = with_material(Some(r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]"#));
+    assert_eq!(c.mesh.uvs, Some(vec![Vec2::new(0.1, 0.2), Vec2::new(0.3, 0.4), Vec2::new(0.5, 0.6)]));
+}
+
 /// A version 0 `EXT_meshopt_compression` attribute stream of `data` (`stride`-byte elements),
 /// every group stored as raw bytes: the simplest valid encoding (the baseline is all zeros).
 fn meshopt_raw_attributes(data: &[u8], stride: usize) -> Vec<u8> {

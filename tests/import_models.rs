@@ -192,21 +192,12 @@ fn rigged_simple() {
     );
 }
 
-/// Splits a GLB into its JSON (as a value) and binary chunk, by hand.
-fn split_glb(bytes: &[u8]) -> (gltf_json::Value, Vec<u8>) {
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let json = gltf_json::deserialize::from_slice(&bytes[20..20 + json_len]).unwrap();
-    let bin_at = 20 + json_len;
-    let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
-    (json, bytes[bin_at + 8..bin_at + 8 + bin_len].to_vec())
-}
-
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn gltf_json_with_external_buffer_matches_the_glb() {
     let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
     let from_binary = from_glb(&bytes).unwrap();
-    let (mut json, bin) = split_glb(&bytes);
+    let (mut json, bin) = common::split_glb(&bytes);
     json["buffers"][0]["uri"] = gltf_json::Value::from("Cesium%20Man.bin");
     let text = gltf_json::serialize::to_vec(&json).unwrap();
     let mut asked = Vec::new();
@@ -231,7 +222,7 @@ fn gltf_json_with_external_buffer_matches_the_glb() {
 fn a_gltf_file_on_disk_reads_its_buffer_from_its_folder() {
     use clod_viewer::import::{from_file, ImportError};
     let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
-    let (mut json, bin) = split_glb(&bytes);
+    let (mut json, bin) = common::split_glb(&bytes);
     json["buffers"][0]["uri"] = gltf_json::Value::from("data/Cesium%20Man.bin");
     let folder = std::env::temp_dir().join(format!("clod-from-file-{}", std::process::id()));
     std::fs::create_dir_all(folder.join("data")).unwrap();

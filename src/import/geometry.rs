@@ -234,17 +234,15 @@ fn base_color_uv_transform(root: &gltf_json::Root, material: Option<usize>) -> A
 }
 
 /// The uv set `material`'s base colour texture samples: `KHR_texture_transform`'s `texCoord`
-/// override, else the texture info's `texCoord`, else 0. The viewer samples only that texture, so
-/// its set becomes the primitive's uvs.
-fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> u32 {
-    let Some(info) = material
+/// override, else the texture info's `texCoord`, else 0; `None` when it has no base colour
+/// texture (or there is no material). The viewer samples only that texture, so its set becomes
+/// the primitive's uvs, and without it the primitive has none (see [`read_primitive`]).
+fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> Option<u32> {
+    let info = material
         .and_then(|m| root.materials.get(m))
-        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())
-    else {
-        return 0;
-    };
+        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())?;
     let over = info.extensions.as_ref().and_then(|e| e.texture_transform.as_ref()).and_then(|t| t.tex_coord);
-    over.unwrap_or(info.tex_coord)
+    Some(over.unwrap_or(info.tex_coord))
 }
 
 /// Reads one primitive's attributes and triangles, or `None` (with a warning) when it draws no
@@ -335,30 +333,39 @@ fn read_primitive(
         None => None,
     };
     let material = prim.material.map(|m| m.value());
-    let wanted = base_color_uv_set(src.root, material);
-    let set = match attribute(Semantic::TexCoords(wanted)) {
-        Some(_) => wanted,
-        None if wanted == 0 => 0,
-        None => {
-            warnings.push(format!(
-                "{label}: its material's base colour texture samples TEXCOORD_{wanted}, which it lacks; \
-                 TEXCOORD_0 is used"
-            ));
-            0
-        }
-    };
-    let uvs = match attribute(Semantic::TexCoords(set)) {
-        Some(a) => {
-            let transform = base_color_uv_transform(src.root, material);
-            let uvs: Vec<Vec2> = read_rows(shared, a, &format!("TEXCOORD_{set}"), &[Type::Vec2])?
-                .values
-                .chunks_exact(2)
-                .map(|c| transform.transform_point2(Vec2::new(c[0], c[1])))
-                .collect();
-            finite(uvs.iter().position(|t| !t.is_finite()), "texture coordinate")?;
-            Some(uvs)
-        }
+    // Texture coordinates that no texture samples draw nothing, so they are not read: kept, their
+    // seams would hold the LOD build's collapses and their values be priced for nothing. Blender
+    // writes a uv map into every file whose mesh has one, textured or not, and on a low-poly
+    // model its islands split most edges (a per-face-uv tube of 768 triangles gave one level; it
+    // now simplifies as its shape allows). gltf-transform's `prune` drops such uvs as well.
+    let uvs = match base_color_uv_set(src.root, material) {
         None => None,
+        Some(wanted) => {
+            let set = match attribute(Semantic::TexCoords(wanted)) {
+                Some(_) => wanted,
+                None if wanted == 0 => 0,
+                None => {
+                    warnings.push(format!(
+                        "{label}: its material's base colour texture samples TEXCOORD_{wanted}, which it \
+                         lacks; TEXCOORD_0 is used"
+                    ));
+                    0
+                }
+            };
+            match attribute(Semantic::TexCoords(set)) {
+                Some(a) => {
+                    let transform = base_color_uv_transform(src.root, material);
+                    let uvs: Vec<Vec2> = read_rows(shared, a, &format!("TEXCOORD_{set}"), &[Type::Vec2])?
+                        .values
+                        .chunks_exact(2)
+                        .map(|c| transform.transform_point2(Vec2::new(c[0], c[1])))
+                        .collect();
+                    finite(uvs.iter().position(|t| !t.is_finite()), "texture coordinate")?;
+                    Some(uvs)
+                }
+                None => None,
+            }
+        }
     };
     let colors = match attribute(Semantic::Colors(0)) {
         Some(a) => {

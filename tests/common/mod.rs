@@ -55,6 +55,15 @@ fn is_ci() -> bool {
 #[allow(unused_imports)]
 pub use clod_viewer::metrics::SplitMix64 as SplitMix;
 
+/// Splits a GLB into its JSON (as a value) and binary chunk, by hand.
+pub fn split_glb(bytes: &[u8]) -> (gltf_json::Value, Vec<u8>) {
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json = gltf_json::deserialize::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let bin_at = 20 + json_len;
+    let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
+    (json, bytes[bin_at + 8..bin_at + 8 + bin_len].to_vec())
+}
+
 /// A tiny skinned triangle as glTF JSON plus its binary buffer, for tests that edit one thing and
 /// check the importer's answer. Two joints: `root` at the origin and `tip` at (0, 1, 0) below it;
 /// node `tri` carries the mesh and the skin. One clip moves `tip` from (0, 1, 0) to (1, 1, 0).

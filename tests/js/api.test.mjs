@@ -4,9 +4,10 @@ import assert from 'node:assert/strict';
 import { api, modelBytes } from './models.mjs';
 
 const models = [
-  { file: 'CesiumMan.glb', triangles: 4672, joints: 19, clips: ['Anim_0'] },
-  { file: 'Fox.glb', triangles: 576, joints: 24, clips: ['Survey', 'Walk', 'Run'] },
-  { file: 'RiggedSimple.glb', triangles: 892, joints: 4, clips: null },
+  { file: 'CesiumMan.glb', triangles: 4672, joints: 19, clips: ['Anim_0'], textured: true },
+  { file: 'Fox.glb', triangles: 576, joints: 24, clips: ['Survey', 'Walk', 'Run'], textured: true },
+  // RiggedSimple has TEXCOORD_0 but no material: no texture samples it, so it is not imported.
+  { file: 'RiggedSimple.glb', triangles: 892, joints: 4, clips: null, textured: false },
 ];
 
 /** Distinct joint nodes over every skin of a GLB, read straight from its JSON chunk. */
@@ -45,12 +46,15 @@ for (const model of models) {
       const length = Math.hypot(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
       assert.ok(Math.abs(length - 1) < 1e-3, `normal ${v} has length ${length}`);
     }
-    // All three models are textured.
     const uvs = character.uvs();
-    assert.ok(uvs instanceof Float32Array);
-    assert.equal(uvs.length, 2 * character.vertexCount);
-    assert.ok(uvs.every(Number.isFinite));
-    assert.ok(uvs.some((x) => x !== 0), 'the texture coordinates are not all zero');
+    if (model.textured) {
+      assert.ok(uvs instanceof Float32Array);
+      assert.equal(uvs.length, 2 * character.vertexCount);
+      assert.ok(uvs.every(Number.isFinite));
+      assert.ok(uvs.some((x) => x !== 0), 'the texture coordinates are not all zero');
+    } else {
+      assert.equal(uvs, undefined);
+    }
 
     for (const clip of character.clipNames) {
       const duration = character.clipDuration(clip);
@@ -105,7 +109,8 @@ test('a .gltf with an external buffer loads through the resolver', (t) => {
   }
   assert.throws(() => api.Character.fromBytes(text, () => undefined), /external data\.bin/);
 
-  // Without texture coordinates, uvs() is undefined; the normals are the same.
+  // Without texture coordinates, uvs() is undefined, as it is for texture coordinates no texture
+  // samples (RiggedSimple's); the normals are the same.
   for (const mesh of json.meshes) for (const primitive of mesh.primitives) delete primitive.attributes.TEXCOORD_0;
   const untextured = api.Character.fromGltf(new TextEncoder().encode(JSON.stringify(json)), () => bin);
   assert.equal(untextured.uvs(), undefined);
