@@ -17,8 +17,9 @@
 // `levelSkinnedPositions(i, clip, t)`. Where a side stops short of a count, the comparison moves to the count
 // ours and the meshoptimizer variant that went further both reached (ours rebuilt with those counts as its
 // levels, meshoptimizer re-run); a variant still short of it is shown but not taken as the better one, and a
-// model meshoptimizer cannot simplify with its default flags is compared with `Permissive` (robot.glb), and one
-// it cannot simplify even so is skipped with a line saying so.
+// model meshoptimizer cannot take to our coarsest level with its default flags is compared with `Permissive`
+// where that goes further (robot.glb: every edge a normal seam), and one it cannot simplify even so is skipped
+// with a line saying so.
 //
 // Error: symmetric sampled surface distance (seeded, same samples for all) against the full mesh skinned at
 // the same frame, in % of the bind-pose bounding-box diagonal; mean averaged over frames, Hausdorff the
@@ -88,12 +89,20 @@ function measureModel(path, { samples, frames, clips }) {
       return { target: n, common, simplify: s, attributes: a };
     }).filter((r) => r.common < character.triangleCount);
     let rows = compare();
-    if (rows.length === 0) {
-      // Nothing simplifies with the default flags (a file whose flat normals make every edge a seam):
-      // meshoptimizer's `Permissive` flag lets collapses cross seams and such vertices, which is what a
-      // user of it would try next.
+    // Where meshoptimizer cannot reach our coarsest level with its default flags (a flat-shaded file:
+    // every edge a normal seam it will not cross), its `Permissive` flag lets collapses cross seams and
+    // such vertices, which is what a user of it would try next; it is taken when it goes further.
+    const reach = (r) => (r.length ? r[r.length - 1].common : character.triangleCount);
+    let withoutPermissive = null;
+    if (rows.length === 0 || rows[rows.length - 1].common > rows[rows.length - 1].target) {
       flags = ['Permissive'];
-      rows = compare();
+      const permissive = compare();
+      if (reach(permissive) < reach(rows)) {
+        withoutPermissive = reach(rows);
+        rows = permissive;
+      } else {
+        flags = [];
+      }
     }
     if (rows.length === 0) {
       defaults.free();
@@ -162,7 +171,7 @@ function measureModel(path, { samples, frames, clips }) {
       .filter((l) => Math.max(l.ours.hausdorff, RATIO_FLOOR_PCT) > Math.max(l[l.better].hausdorff, RATIO_FLOOR_PCT))
       .map((l) => ({ triangles: l.triangles.ours, ours: l.ours.hausdorff, better: l[l.better].hausdorff }));
     return {
-      name, triangles: character.triangleCount, clips: clipNames, targets: counts, flags, attributes: input.what, merged, levels, meanRatio,
+      name, triangles: character.triangleCount, clips: clipNames, targets: counts, flags, withoutPermissive, attributes: input.what, merged, levels, meanRatio,
       worst: { ratio: worst.ratio, triangles: worst.triangles.ours }, hausdorffHigher, informativeMean,
       welded: weldedRatios.length
         ? { meanRatio: weldedRatios.reduce((a, b) => a + b, 0) / weldedRatios.length, worstRatio: Math.max(...weldedRatios), levels: weldedRatios.length }
@@ -194,7 +203,7 @@ export function format(model) {
   const lines = [
     `## ${model.name}: ${model.triangles} triangles, clips ${model.clips.join(', ')}; our levels ${model.targets.join('/')}; ` +
       `withAttributes prices ${model.attributes}` +
-      (model.flags.length ? `; meshoptimizer with ${model.flags.join(', ')} (nothing simplifies without)` : ''),
+      (model.flags.length ? `; meshoptimizer with ${model.flags.join(', ')} (without, it stops at ${model.withoutPermissive} triangles)` : ''),
     '| level | triangles (ours / simplify / withAttributes / welded) | ours mean % | simplify mean % | withAttributes mean % | ours / better | ours Hausdorff % | better Hausdorff % | welded simplify mean % (seams ignored) |',
     '|---|---|---|---|---|---|---|---|---|',
   ];

@@ -66,6 +66,11 @@ export function fileHasNormals(json) {
  * for unit-range attributes; uv 0 when the model has none), compacted (see [`compact`]): `{ indices,
  * positions, attributes, vertices, stride, weights, what }`.
  *
+ * Vertices of one material that are equal in all of that are one vertex, as gltf-transform's `weld`
+ * makes them. That matters where the importer left out uvs no texture samples (gltf-transform's
+ * `prune` drops those too): the built-in character's seam down its back is then two copies of equal
+ * vertices, and ours welds them too.
+ *
  * For a file without normals (Fox.glb) that is its vertices as stored, with uv only: the importer's
  * flat normals split every vertex into facet corners, which are not in the file and would make
  * every edge a normal seam only meshoptimizer's `Permissive` gets across, and `Permissive` crosses
@@ -73,28 +78,34 @@ export function fileHasNormals(json) {
  */
 export function meshoptAttributeInput(character, json) {
   const indices = character.indices();
+  const positions = character.bindPositions();
   const uvs = character.uvs();
-  if (!fileHasNormals(json)) {
-    const positions = character.bindPositions();
-    const first = new Map();
-    const remap = new Uint32Array(character.vertexCount);
-    for (let v = 0; v < remap.length; v++) {
-      const key = `${positions.subarray(3 * v, 3 * v + 3)},${uvs ? uvs.subarray(2 * v, 2 * v + 2) : ''}`;
-      if (!first.has(key)) first.set(key, v);
-      remap[v] = first.get(key);
-    }
+  const normals = fileHasNormals(json) ? character.normals() : null;
+  // A vertex's material: that of the triangles using it (a primitive's vertices are its own).
+  const triangleMaterials = character.triangleMaterials();
+  const material = new Uint32Array(character.vertexCount);
+  indices.forEach((v, k) => { material[v] = triangleMaterials[Math.floor(k / 3)]; });
+  const row = (array, stride, v) => (array ? array.subarray(stride * v, stride * v + stride) : '');
+  const first = new Map();
+  const remap = new Uint32Array(character.vertexCount);
+  for (let v = 0; v < remap.length; v++) {
+    const key = `${material[v]}|${row(positions, 3, v)}|${row(normals, 3, v)}|${row(uvs, 2, v)}`;
+    if (!first.has(key)) first.set(key, v);
+    remap[v] = first.get(key);
+  }
+  const welded = indices.map((i) => remap[i]);
+  if (!normals) {
     // Without uv either, one attribute of zeros (it costs nothing): positions alone decide.
     return uvs
-      ? compacted(indices.map((i) => remap[i]), positions, uvs, 2, 'uv (the file has no normals)')
-      : compacted(indices.map((i) => remap[i]), positions, new Float32Array(remap.length), 1, 'nothing (the file has no normals or uv)');
+      ? compacted(welded, positions, uvs, 2, 'uv (the file has no normals)')
+      : compacted(welded, positions, new Float32Array(remap.length), 1, 'nothing (the file has no normals or uv)');
   }
-  const normals = character.normals();
   const out = new Float32Array(5 * character.vertexCount);
   for (let v = 0; v < character.vertexCount; v++) {
     out.set(normals.subarray(3 * v, 3 * v + 3), 5 * v);
     if (uvs) out.set(uvs.subarray(2 * v, 2 * v + 2), 5 * v + 3);
   }
-  return compacted(indices, character.bindPositions(), out, 5, 'normals and uv');
+  return compacted(welded, positions, out, 5, uvs ? 'normals and uv' : 'normals (no texture samples uv)');
 }
 
 function compacted(indices, positions, attributes, stride, what) {

@@ -125,6 +125,13 @@ impl Character {
         self.inner.mesh.indices.clone()
     }
 
+    /// The material of every triangle: an index into the file's materials, or `0xFFFFFFFF` for
+    /// glTF's default material.
+    #[wasm_bindgen(js_name = triangleMaterials)]
+    pub fn triangle_materials(&self) -> Vec<u32> {
+        crate::clod::material_ids(&self.inner)
+    }
+
     /// Bind-space positions, xyz per vertex.
     #[wasm_bindgen(js_name = bindPositions)]
     pub fn bind_positions(&self) -> Vec<f32> {

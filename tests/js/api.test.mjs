@@ -35,6 +35,12 @@ for (const model of models) {
     assert.equal(indices.length, 3 * character.triangleCount);
     assert.ok(indices.every((i) => i < character.vertexCount));
 
+    const materials = character.triangleMaterials();
+    assert.ok(materials instanceof Uint32Array);
+    assert.equal(materials.length, character.triangleCount);
+    // CesiumMan and Fox have one material; RiggedSimple none (glTF's default material).
+    assert.ok(materials.every((m) => m === (model.textured ? 0 : 0xFFFFFFFF)));
+
     const bind = character.bindPositions();
     assert.ok(bind instanceof Float32Array);
     assert.equal(bind.length, 3 * character.vertexCount);
