@@ -17,6 +17,8 @@
 //!    space. Skinned primitives keep the file's bind-space vertices and remap their joints into
 //!    [`crate::Skeleton::joints`]; rigid meshes get a joint of their own node and are moved into
 //!    bind space (model space at rest), so skinning at rest puts every vertex where the file does.
+//!    Texture coordinates are the set the base colour texture samples, and none where no texture
+//!    samples them (they would draw nothing, and their seams would hold the levels).
 //! 4. `clips`: animations as [`crate::Clip`]s over the skeleton nodes and the morph weights.
 //! 5. `material`: materials in file order with their base-colour image bytes.
 //!
