@@ -123,33 +123,37 @@ pub fn sample_surface(positions: &[Vec3], indices: &[u32], count: usize, seed: u
 /// distance was that error: 0.0027 % of the diagonal, where the surface is exact). A triangle whose
 /// sides are parallel to within 1e-6 radians is treated as its edges.
 pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
-    let (p, a, b, c) = (p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
+    closest_point_on_triangle_f64(p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3()).as_vec3()
+}
+
+/// [`closest_point_on_triangle`] in f64 throughout (the simplifier's positions).
+pub fn closest_point_on_triangle_f64(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return a.as_vec3();
+        return a;
     }
     let bp = p - b;
     let (d3, d4) = (ab.dot(bp), ac.dot(bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return b.as_vec3();
+        return b;
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return (a + ab * (d1 / (d1 - d3))).as_vec3();
+        return a + ab * (d1 / (d1 - d3));
     }
     let cp = p - c;
     let (d5, d6) = (ab.dot(cp), ac.dot(cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return c.as_vec3();
+        return c;
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return (a + ac * (d2 / (d2 - d6))).as_vec3();
+        return a + ac * (d2 / (d2 - d6));
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).as_vec3();
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
     // va + vb + vc = |ab × ac|² = |ab|² |ac|² sin² of the angle at `a`.
     let denom = va + vb + vc;
@@ -162,11 +166,10 @@ pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
             .into_iter()
             .map(|(s, e)| closest_point_on_segment(p, s, e))
             .min_by(|x, y| x.distance_squared(p).total_cmp(&y.distance_squared(p)))
-            .unwrap_or(a)
-            .as_vec3();
+            .unwrap_or(a);
     }
     let (v, w) = (vb / denom, vc / denom);
-    (a + ab * v + ac * w).as_vec3()
+    a + ab * v + ac * w
 }
 
 fn closest_point_on_segment(p: DVec3, a: DVec3, b: DVec3) -> DVec3 {

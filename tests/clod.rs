@@ -7,7 +7,7 @@ mod common;
 use std::collections::{HashMap, HashSet};
 
 use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose, WeightRule};
-use clod_viewer::metrics::bounds_diagonal;
+use clod_viewer::metrics::{bounds_diagonal, closest_point_on_triangle};
 use clod_viewer::simplify::{CollapseMode, Schedule, StopReason};
 use clod_viewer::{import, Character};
 
@@ -281,11 +281,13 @@ fn the_floor_skips_every_collapse_costlier_than_the_max_error() {
         let (pm, all) = (&floored.apm.pm, &unbounded.apm.pm);
         assert_eq!(pm.stop, StopReason::MaxErrorReached, "{schedule:?}");
         assert!(pm.collapses.iter().all(|c| c.cost <= limit), "{schedule:?}");
-        // The same collapses up to the first one over the floor, which the floored build skips.
+        // The same collapses up to the first one the floored build skips: the first over the
+        // quadric floor at the latest, or one before it that would leave an input vertex farther
+        // than the floor (next test).
         let first_over = all.collapses.iter().position(|c| c.cost > limit).unwrap();
-        assert!(pm.collapses.len() >= first_over, "{schedule:?}");
+        let same = pm.collapses.iter().zip(&all.collapses).take_while(|(a, b)| a == b).count();
+        assert!(same <= first_over, "{schedule:?}");
         assert!(pm.collapses.len() < all.collapses.len(), "{schedule:?}");
-        assert_eq!(all.collapses[..first_over], pm.collapses[..first_over], "{schedule:?}");
         check_chain(&format!("Fox floored {schedule:?}"), &floored);
         // The chain says where and why it stopped short of 20 triangles.
         let short = floored.stopped_short().expect("the floor stopped it");
@@ -298,6 +300,39 @@ fn the_floor_skips_every_collapse_costlier_than_the_max_error() {
                 "the levels stop at {coarsest} of 576 triangles ({percent} %): every further collapse would \
                  move the surface more than the error limit allows"
             )
+        );
+    }
+}
+
+/// The floor is a distance too (`farthest_input_within` in `src/simplify/collapse/checks.rs`): at
+/// the coarsest level of a default build every input vertex of CesiumMan and Fox is within the
+/// floor of the level's surface, in the simplification pose. By the quadric cost alone both
+/// feet of CesiumMan went at 72 triangles, their toes 9.1 % of the diagonal off, and Fox's
+/// coarsest level was 5.4 % off.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_floor_keeps_every_input_vertex_near_the_coarsest_level() {
+    for name in ["CesiumMan.glb", "Fox.glb"] {
+        let Some(character) = load(name) else { continue };
+        let clod = build(&character, &ClodOptions::default());
+        let coarsest = clod.levels.len() - 1;
+        let (level, positions) = (&clod.levels[coarsest], clod.level_pose_positions(coarsest));
+        let input = &clod.apm.pm.positions[..character.mesh.vertex_count()];
+        let limit = clod::DEFAULT_MAX_ERROR * bounds_diagonal(&character.mesh.positions);
+        let farthest = input
+            .iter()
+            .map(|&q| {
+                level.indices.chunks_exact(3).fold(f32::INFINITY, |nearest, t| {
+                    let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+                    nearest.min(q.distance(closest_point_on_triangle(q, a, b, c)))
+                })
+            })
+            .fold(0.0f32, f32::max);
+        assert!(
+            farthest <= limit,
+            "{name}: an input vertex is {:.2} % of the diagonal from the {}-triangle level",
+            100.0 * farthest / limit * clod::DEFAULT_MAX_ERROR,
+            level.triangle_count()
         );
     }
 }

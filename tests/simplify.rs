@@ -2,6 +2,8 @@
 
 mod meshgen;
 
+use clod_viewer::metrics::closest_point_on_triangle;
+use clod_viewer::progressive::ProgressiveMesh;
 use clod_viewer::simplify::{
     simplify, CollapseMode, Quadric, Schedule, SimplifyError, SimplifyOptions, StopReason,
 };
@@ -560,6 +562,42 @@ fn max_error_and_target_stop_early() {
         assert!(targeted.triangle_count_after(targeted.collapse_count()) <= 100);
         assert!(targeted.triangle_count_after(targeted.collapse_count() - 1) > 100);
         assert_eq!(targeted.collapses[..], full.collapses[..targeted.collapse_count()], "{schedule:?}");
+    }
+}
+
+/// `max_distance` skips a collapse that would leave an input vertex farther than it from the
+/// surface, which the mean squared error lets through: a plate with a ridge 1 high and 8 long,
+/// held to 0.5 by the quadric floor alone, cuts the ridge down to 0.57–0.59 off; with the
+/// distance floor too, it stops with every input vertex within 0.5.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn max_distance_keeps_a_ridge_that_the_quadric_floor_cuts() {
+    let mesh = grid(14, 4, |i, j| if j == 2 && (2..=10).contains(&i) { 1.0 } else { 0.0 });
+    // The farthest input vertex from the coarsest mesh.
+    let farthest = |pm: &ProgressiveMesh| {
+        let indices = pm.indices_at(pm.collapse_count());
+        mesh.positions
+            .iter()
+            .map(|&q| {
+                indices.chunks_exact(3).fold(f32::INFINITY, |nearest, t| {
+                    let [a, b, c] = [0, 1, 2].map(|k| pm.positions[t[k] as usize]);
+                    nearest.min(q.distance(closest_point_on_triangle(q, a, b, c)))
+                })
+            })
+            .fold(0.0f32, f32::max)
+    };
+    let limit = 0.5;
+    for schedule in [Schedule::Passes, Schedule::Strict] {
+        let floor =
+            SimplifyOptions { schedule, max_mean_squared_error: limit * limit, ..SimplifyOptions::default() };
+        let quadric_only = mesh.simplify(&floor);
+        assert!(farthest(&quadric_only) > 1.1 * limit, "{schedule:?}: {}", farthest(&quadric_only));
+        let both = mesh.simplify(&SimplifyOptions { max_distance: limit, ..floor });
+        assert_eq!(both.stop, StopReason::MaxErrorReached, "{schedule:?}");
+        assert!(farthest(&both) <= limit, "{schedule:?}: {}", farthest(&both));
+        // The same collapses up to the first one the distance floor skips.
+        let same = both.collapses.iter().zip(&quadric_only.collapses).take_while(|(a, b)| a == b).count();
+        assert!(same > 0 && same < quadric_only.collapse_count(), "{schedule:?}");
     }
 }
 

@@ -57,8 +57,9 @@ pub struct ClodOptions {
     /// The floor of the progressive mesh, as a fraction of the bounding-box diagonal (a
     /// distance, not its square; the simplifier's [`SimplifyOptions::max_mean_squared_error`]
     /// is this times the diagonal, squared): simplification makes no collapse whose error (root
-    /// mean square over the collapsing pair's area, quadric-measured) exceeds it, and ends when
-    /// only such collapses are left. `f32::INFINITY` simplifies as far as the topology allows.
+    /// mean square over the collapsing pair's area, quadric-measured) exceeds it, nor one that
+    /// leaves an input vertex it tracks farther than it from the surface, and ends when only
+    /// such collapses are left. `f32::INFINITY` simplifies as far as the topology allows.
     ///
     /// Default value: [`DEFAULT_MAX_ERROR`] (5 %).
     pub max_relative_error: f32,
@@ -236,14 +237,14 @@ pub fn build(
         triangle_materials: &input.triangle_materials,
         vertex_quadrics: vertex_quadrics.as_deref(),
     };
+    let max_distance = options.max_relative_error * crate::metrics::bounds_diagonal(&input.positions);
     let simplify_options = SimplifyOptions {
         mode: options.mode,
         target_triangles: *levels.last().expect("levels are not empty"),
         normal_channel: Some(0),
         // Costs are mean squared errors in position units².
-        max_mean_squared_error: (options.max_relative_error
-            * crate::metrics::bounds_diagonal(&input.positions))
-        .powi(2),
+        max_mean_squared_error: max_distance.powi(2),
+        max_distance,
         schedule: options.schedule,
     };
     let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {

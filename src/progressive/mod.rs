@@ -33,7 +33,8 @@ pub(crate) const NONE: u32 = u32::MAX;
 pub enum StopReason {
     /// `target_triangles` was reached.
     TargetReached,
-    /// Every collapse left would cost more than `max_mean_squared_error`.
+    /// Every collapse left would cost more than `max_mean_squared_error` or leave an input
+    /// vertex farther than `max_distance` from the surface.
     MaxErrorReached,
     /// No valid collapse is left (everything remaining is locked or would fold); the mesh may
     /// still have more triangles than asked for.

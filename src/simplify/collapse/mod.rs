@@ -26,7 +26,11 @@
 //! A pair smaller than [`SMALL_PAIR`] of the mean area is ordered as if it were that large, so a
 //! small part does not go at several times the distance of the rest.
 //! Since the order is not the RMS order, a collapse over the floor is skipped rather than ending
-//! the run: the run ends when every collapse left is over it, as it did before.
+//! the run: the run ends when every collapse left is over it, as it did before. A second floor is
+//! a distance ([`SimplifyOptions::max_distance`]): a collapse that would leave the input vertex
+//! either end tracks (of those it stands for, the one left farthest from the surface) farther
+//! than it from the triangles around the merged vertex is skipped the same way (`checks.rs`);
+//! the RMS misses a small part cut short, a toe merged with its heel.
 //!
 //! Two orders ([`Schedule`]), both deterministic (every choice follows a total order on
 //! (cost, u, v), u scrambled (`queue.rs`), and thresholds derived from the mesh state alone,
@@ -239,6 +243,12 @@ struct Engine<'a> {
     stats: PricingStats,
     /// Whether a collapse was skipped for exceeding the error limit.
     over_floor: bool,
+    /// Per class: of the input vertices it stands for, the position of the one farthest from the
+    /// surface after its last collapse (its own input position until then); see `checks.rs`,
+    /// `farthest_input_within`.
+    farthest_input: Vec<DVec3>,
+    /// [`SimplifyOptions::max_distance`].
+    max_distance: f64,
     /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
     /// average area.
     inverse_mean_pair_area: f64,
@@ -311,6 +321,8 @@ impl<'a> Engine<'a> {
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
         Engine {
             over_floor: false,
+            farthest_input: position.clone(),
+            max_distance: f64::from(options.max_distance),
             clearance: Clearance::new(positions, indices),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),

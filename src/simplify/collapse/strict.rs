@@ -64,7 +64,12 @@ impl Engine<'_> {
                 self.park(v, u);
                 continue;
             }
+            let Some(farthest) = self.farthest_input_within(&plan, self.max_distance) else {
+                self.over_floor = true;
+                continue;
+            };
             self.apply(&plan);
+            self.farthest_input[plan.v as usize] = farthest;
         }
     }
 }
