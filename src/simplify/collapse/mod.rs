@@ -249,6 +249,8 @@ struct Engine<'a> {
     farthest_input: Vec<DVec3>,
     /// [`SimplifyOptions::max_distance`].
     max_distance: f64,
+    /// The surviving triangles of the collapse being checked (`checks.rs`, `Probes`).
+    probe_scratch: Vec<checks::ProbeTriangle>,
     /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
     /// average area.
     inverse_mean_pair_area: f64,
@@ -323,6 +325,7 @@ impl<'a> Engine<'a> {
             over_floor: false,
             farthest_input: position.clone(),
             max_distance: f64::from(options.max_distance),
+            probe_scratch: Vec::new(),
             clearance: Clearance::new(positions, indices),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),

@@ -59,15 +59,15 @@ impl Engine<'_> {
                 self.over_floor = true;
                 continue;
             }
-            if !self.check(&plan) {
+            let Some((farthest, distance)) = self.check(&plan) else {
                 self.park(u, v);
                 self.park(v, u);
                 continue;
-            }
-            let Some(farthest) = self.farthest_input_within(&plan, self.max_distance) else {
+            };
+            if distance > self.max_distance {
                 self.over_floor = true;
                 continue;
-            };
+            }
             self.apply(&plan);
             self.farthest_input[plan.v as usize] = farthest;
         }
