@@ -131,7 +131,8 @@ impl Engine<'_> {
         if count == 2 && opposite[0] == opposite[1] {
             // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
             // standing alone may collapse; both triangles die and nothing of it is left to fold.
-            return self.is_lone(&[u, v, opposite[0]], 2).then_some((plan.p, 0.0));
+            let survivor_keeps = (self.farthest_input[v as usize], 0.0);
+            return self.is_lone(&[u, v, opposite[0]], 2).then_some(survivor_keeps);
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
         for corner in self.lists.iter(u) {
@@ -323,7 +324,7 @@ impl Probes {
                 continue;
             }
             let q = self.points[k];
-            let plane_squared = |(corners, cross, length_squared): &([DVec3; 3], DVec3, f64)| {
+            let plane_squared = |(corners, cross, length_squared): &ProbeTriangle| {
                 let along = (q - corners[0]).dot(*cross);
                 along * along / length_squared
             };
