@@ -106,10 +106,11 @@ pub struct SimplifyOptions {
     ///
     /// Default value: `f32::INFINITY`.
     pub max_mean_squared_error: f32,
-    /// Make no collapse that leaves an input vertex farther than this (position units) from the
-    /// triangles around the merged vertex. Each position class tracks one input vertex, of those
-    /// it stands for the one left farthest from the surface (its own until its first collapse);
-    /// a part that goes away whole is not held by it. The mean squared error misses a small
+    /// Make no collapse that leaves a tracked input vertex farther than this (position units)
+    /// from the triangles around the merged vertex. Each position class tracks one input vertex,
+    /// of those it stands for the one left farthest from the surface (its own until its first
+    /// collapse), so this is a heuristic, not a bound on every input vertex; a part that goes
+    /// away whole is not held by it. The mean squared error misses a small
     /// part cut short (the toe of a sliver foot merged with its heel); this does not.
     ///
     /// Default value: `f32::INFINITY`.

@@ -244,8 +244,8 @@ struct Engine<'a> {
     /// Whether a collapse was skipped for exceeding the error limit.
     over_floor: bool,
     /// Per class: of the input vertices it stands for, the position of the one farthest from the
-    /// surface after its last collapse (its own input position until then); see `checks.rs`,
-    /// `farthest_input_within`.
+    /// surface after its last collapse (its own input position until then); see `Probes` in
+    /// `checks.rs`.
     farthest_input: Vec<DVec3>,
     /// [`SimplifyOptions::max_distance`].
     max_distance: f64,
