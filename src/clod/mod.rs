@@ -29,7 +29,9 @@ use thiserror::Error;
 use crate::character::Character;
 use crate::morph::MorphDeltas;
 use crate::progressive::{ProgressiveMesh, NONE};
-use crate::simplify::{self, CollapseMode, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
+use crate::simplify::{
+    self, CollapseMode, OtherPoses, Schedule, SimplifyError, SimplifyInput, SimplifyOptions,
+};
 use crate::skinning;
 pub use chain::{LodLevel, StoppedShort};
 pub use poses::SimplificationPose;
@@ -212,7 +214,7 @@ pub fn build(
     // 1. The simplification pose P0 (flat-shaded vertices welded across their normal seams, see
     // `shading`), and for multi-pose the plane quadrics of every frame.
     let input = PoseInput::new(character, &options.pose)?;
-    let vertex_quadrics = match &options.pose {
+    let multi_pose = match &options.pose {
         SimplificationPose::MultiPose { frames_per_clip } => {
             let p0_matrices = input.vertex_matrices.as_deref();
             poses::multi_pose_quadrics(
@@ -235,7 +237,10 @@ pub fn build(
         attribute_weights: &input.layout.weights,
         indices: &input.indices,
         triangle_materials: &input.triangle_materials,
-        vertex_quadrics: vertex_quadrics.as_deref(),
+        vertex_quadrics: multi_pose.as_ref().map(|m| m.quadrics.as_slice()),
+        other_poses: multi_pose
+            .as_ref()
+            .map(|m| OtherPoses { count: m.pose_count, positions: &m.posed_positions }),
     };
     let max_distance = options.max_relative_error * crate::metrics::bounds_diagonal(&input.positions);
     let simplify_options = SimplifyOptions {

@@ -28,6 +28,7 @@ impl Mesh {
             indices: &self.indices,
             triangle_materials: &self.materials,
             vertex_quadrics: None,
+            other_poses: None,
         }
     }
 

@@ -90,14 +90,15 @@ impl Engine<'_> {
         if !(old_cross == DVec3::ZERO || cross.dot(old_cross) > 0.0) {
             return false;
         }
-        probes.measure(new, cross, length_squared);
+        probes.measure(ProbeTriangle { corners: new, cross, length_squared, classes });
         true
     }
 
     /// The topological and geometric checks of a planned collapse: link condition, no duplicate
     /// triangles, no merged constraint lines, no folds. A valid collapse gives the input point
     /// the merged vertex is to track and its distance from the surface the collapse leaves (see
-    /// [`Probes`]); `None` for an invalid one.
+    /// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
+    /// (`poses.rs`); `None` for an invalid one.
     pub(super) fn check(&mut self, plan: &Plan) -> Option<(DVec3, f64)> {
         let (u, v) = (plan.u, plan.v);
         let stamp = self.next_stamp();
@@ -170,7 +171,8 @@ impl Engine<'_> {
         }
         let scratch = std::mem::take(&mut self.probe_scratch);
         let ends = [u, v].map(|end| self.farthest_input[end as usize]);
-        let mut probes = Probes::new(ends, plan.p, self.max_distance, scratch);
+        let posed = self.measures_in_poses(plan);
+        let mut probes = Probes::new(ends, plan.p, self.max_distance, scratch, posed);
         let unfolded = self.fan_unfolded(u, v, plan.p, &mut probes)
             && if plan.p == self.position[v as usize] {
                 // v's triangles keep their corners: nothing to check, still surface to measure.
@@ -179,7 +181,18 @@ impl Engine<'_> {
             } else {
                 self.fan_unfolded(v, u, plan.p, &mut probes)
             };
-        let farthest = unfolded.then(|| probes.farthest());
+        let farthest = unfolded.then(|| {
+            let (k, distance) = probes.farthest();
+            let in_poses = if posed && probes.survivors && !(distance > self.max_distance) {
+                let mut old = std::mem::take(&mut self.posed_scratch);
+                let step = self.step_beyond_floor_in_poses(plan, &probes.triangles, &mut old);
+                self.posed_scratch = old;
+                step
+            } else {
+                0.0
+            };
+            (ends[k], distance.max(in_poses))
+        });
         self.probe_scratch = probes.triangles;
         farthest
     }
@@ -197,7 +210,7 @@ impl Engine<'_> {
 
     /// Measures `probes` on the triangles around `c` that do not contain `other`, as they are.
     fn measure_fan(&self, c: u32, other: u32, probes: &mut Probes) {
-        if !probes.any_measured() {
+        if !probes.keeps_triangles() {
             return;
         }
         for corner in self.lists.iter(c) {
@@ -210,7 +223,7 @@ impl Engine<'_> {
             let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
             let length_squared = cross.length_squared();
             if length_squared > 0.0 {
-                probes.measure(corners, cross, length_squared);
+                probes.measure(ProbeTriangle { corners, cross, length_squared, classes });
             }
         }
     }
@@ -261,19 +274,33 @@ pub(super) struct Probes {
     measured: [bool; 2],
     /// Whether a surviving triangle was seen: with none, nothing is left around the merged
     /// vertex, and the part's own pricing (`clearance.rs`) weighs that.
-    survivors: bool,
-    /// The surviving triangles (corners, unnormalised normal and its squared length), measured
-    /// at the end nearest plane first, so that most of the others are ruled out by their plane
-    /// (the engine's scratch, lent for the check).
-    triangles: Vec<ProbeTriangle>,
+    pub(super) survivors: bool,
+    /// Whether every surviving triangle is kept, measured or not: the other poses need them.
+    keep_all: bool,
+    /// The surviving triangles, measured at the end nearest plane first, so that most of the
+    /// others are ruled out by their plane (the engine's scratch, lent for the check).
+    pub(super) triangles: Vec<ProbeTriangle>,
 }
 
-/// A surviving triangle as [`Probes`] measures it: corners, unnormalised normal, and its
-/// squared length.
-pub(super) type ProbeTriangle = ([DVec3; 3], DVec3, f64);
+/// A surviving triangle as [`Probes`] measures it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ProbeTriangle {
+    pub(super) corners: [DVec3; 3],
+    /// The unnormalised normal, and its squared length (positive).
+    cross: DVec3,
+    length_squared: f64,
+    /// The corners' classes, one of them an end of the collapse: the merged vertex.
+    pub(super) classes: [u32; 3],
+}
 
 impl Probes {
-    fn new(points: [DVec3; 2], p: DVec3, limit: f64, mut triangles: Vec<ProbeTriangle>) -> Self {
+    fn new(
+        points: [DVec3; 2],
+        p: DVec3,
+        limit: f64,
+        mut triangles: Vec<ProbeTriangle>,
+        keep_all: bool,
+    ) -> Self {
         let nearest_squared = points.map(|q| q.distance_squared(p));
         let search_from = (SEARCH_FROM * limit).powi(2);
         triangles.clear();
@@ -282,29 +309,30 @@ impl Probes {
             nearest_squared,
             measured: nearest_squared.map(|d| d > search_from),
             survivors: false,
+            keep_all,
             triangles,
         }
     }
 
-    fn any_measured(&self) -> bool {
-        self.measured.contains(&true)
+    /// Whether surviving triangles are kept: for measuring, or for the other poses.
+    fn keeps_triangles(&self) -> bool {
+        self.keep_all || self.measured.contains(&true)
     }
 
-    /// Takes a surviving triangle `corners` with normal `cross` (not normalised;
-    /// `length_squared` its squared length, positive).
-    fn measure(&mut self, corners: [DVec3; 3], cross: DVec3, length_squared: f64) {
+    /// Takes a surviving triangle.
+    fn measure(&mut self, triangle: ProbeTriangle) {
         self.survivors = true;
-        if !self.any_measured() {
-            return;
+        if self.keeps_triangles() {
+            self.triangles.push(triangle);
         }
-        self.triangles.push((corners, cross, length_squared));
     }
 
     /// Measures point `k` on one triangle, unless its plane is already too far.
-    fn measure_one(&mut self, k: usize, corners: [DVec3; 3], cross: DVec3, length_squared: f64) {
+    fn measure_one(&mut self, k: usize, triangle: ProbeTriangle) {
         if !self.measured[k] {
             return;
         }
+        let ProbeTriangle { corners, cross, length_squared, .. } = triangle;
         let q = self.points[k];
         let along = (q - corners[0]).dot(cross);
         // The plane is no farther than the triangle.
@@ -324,31 +352,29 @@ impl Probes {
                 continue;
             }
             let q = self.points[k];
-            let plane_squared = |(corners, cross, length_squared): &ProbeTriangle| {
-                let along = (q - corners[0]).dot(*cross);
-                along * along / length_squared
+            let plane_squared = |t: &ProbeTriangle| {
+                let along = (q - t.corners[0]).dot(t.cross);
+                along * along / t.length_squared
             };
             let buffered = &self.triangles;
             let nearest_plane = (0..buffered.len())
                 .min_by(|&a, &b| plane_squared(&buffered[a]).total_cmp(&plane_squared(&buffered[b])));
             if let Some(first) = nearest_plane {
-                let (corners, cross, length_squared) = self.triangles[first];
-                self.measure_one(k, corners, cross, length_squared);
+                self.measure_one(k, self.triangles[first]);
             }
             for t in 0..self.triangles.len() {
                 if Some(t) != nearest_plane {
-                    let (corners, cross, length_squared) = self.triangles[t];
-                    self.measure_one(k, corners, cross, length_squared);
+                    self.measure_one(k, self.triangles[t]);
                 }
             }
         }
     }
 
-    /// The point farther from the surface and its distance.
-    fn farthest(&mut self) -> (DVec3, f64) {
+    /// Which point (0 or 1) is farther from the surface, and its distance.
+    fn farthest(&mut self) -> (usize, f64) {
         self.measure_buffered();
         // On a tie (both on the surface, say) the survivor `v` keeps its own.
         let k = usize::from(self.nearest_squared[1] >= self.nearest_squared[0]);
-        (self.points[k], if self.survivors { self.nearest_squared[k].sqrt() } else { 0.0 })
+        (k, if self.survivors { self.nearest_squared[k].sqrt() } else { 0.0 })
     }
 }

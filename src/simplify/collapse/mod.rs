@@ -30,7 +30,9 @@
 //! a distance ([`SimplifyOptions::max_distance`]): a collapse that would leave the input vertex
 //! either end tracks (of those it stands for, the one left farthest from the surface) farther
 //! than it from the triangles around the merged vertex is skipped the same way (`checks.rs`);
-//! the RMS misses a small part cut short, a toe merged with its heel.
+//! the RMS misses a small part cut short, a toe merged with its heel. Given the input in other
+//! poses, a collapse that moves the surface farther than the floor in one of them is skipped too
+//! (`poses.rs`): a knee merged into its hip while the leg is straight.
 //!
 //! Two orders ([`Schedule`]), both deterministic (every choice follows a total order on
 //! (cost, u, v), u scrambled (`queue.rs`), and thresholds derived from the mesh state alone,
@@ -56,6 +58,7 @@ mod apply;
 mod checks;
 mod passes;
 mod plan;
+mod poses;
 mod stats;
 mod strict;
 
@@ -70,7 +73,7 @@ use super::topology::{
     NONE,
 };
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
-use super::{CollapseMode, Schedule, SimplifyInput, SimplifyOptions, StopReason};
+use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
 use glam::{DVec3, Vec3};
 
@@ -247,6 +250,12 @@ struct Engine<'a> {
     /// surface after its last collapse (its own input position until then); see `Probes` in
     /// `checks.rs`.
     farthest_input: Vec<DVec3>,
+    /// The input positions ([`SimplifyInput::positions`]).
+    input_positions: &'a [Vec3],
+    /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`).
+    other_poses: Option<OtherPoses<'a>>,
+    /// The replaced triangles of a collapse in a pose (`poses.rs`).
+    posed_scratch: Vec<[DVec3; 3]>,
     /// [`SimplifyOptions::max_distance`].
     max_distance: f64,
     /// The surviving triangles of the collapse being checked (`checks.rs`, `Probes`).
@@ -324,6 +333,9 @@ impl<'a> Engine<'a> {
         Engine {
             over_floor: false,
             farthest_input: position.clone(),
+            posed_scratch: Vec::new(),
+            input_positions: positions,
+            other_poses: input.other_poses,
             max_distance: f64::from(options.max_distance),
             probe_scratch: Vec::new(),
             clearance: Clearance::new(positions, indices),
