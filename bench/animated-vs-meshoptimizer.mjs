@@ -25,7 +25,7 @@
 // the same frame, in % of the bind-pose bounding-box diagonal; mean averaged over frames, Hausdorff the
 // worst frame. Frames: 4 of each of the first 2 clips ((f + 0.5) / 4 of the duration); --short: 2 frames of
 // the first clip, 4,000 samples (the regression test, tests/js/animated.test.mjs, runs that form).
-import { readFileSync, existsSync, writeFileSync } from 'node:fs';
+import { readFileSync, existsSync, statSync, writeFileSync } from 'node:fs';
 import { basename } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { MeshoptSimplifier } from 'meshoptimizer';
@@ -241,6 +241,9 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
   const settings = argv.includes('--short') ? SHORT : FULL;
   const jsonAt = argv.indexOf('--json');
   const baselineAt = argv.indexOf('--baseline');
+  for (const [flag, at] of [['--json', jsonAt], ['--baseline', baselineAt]]) {
+    if (at >= 0) checkOutputPath(flag, argv[at + 1]);
+  }
   const started = performance.now();
   const valued = new Set([jsonAt, baselineAt].filter((i) => i >= 0).map((i) => i + 1));
   const paths = modelPaths(argv.filter((a, i) => !a.startsWith('--') && !valued.has(i)), ASSET_NAMES);
@@ -264,4 +267,14 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
     writeFileSync(argv[baselineAt + 1], JSON.stringify({ settings, models }, null, 1) + '\n');
   }
   if (jsonAt >= 0) writeFileSync(argv[jsonAt + 1], JSON.stringify({ settings, models: results }, null, 1) + '\n');
+}
+
+// Exits unless `path`, given after `flag`, names a JSON file to write: `--json Fox.glb` would
+// overwrite the model it was meant to measure.
+function checkOutputPath(flag, path) {
+  const isModel = /\.(glb|gltf|bin)$/i.test(path ?? '');
+  if (path === undefined || path.startsWith('--') || isModel || (existsSync(path) && statSync(path).isDirectory())) {
+    console.error(`${flag} takes the JSON file to write, e.g. ${flag} out.json; got ${path ?? 'nothing'}`);
+    process.exit(2);
+  }
 }
