@@ -21,7 +21,6 @@ mod validate;
 pub use validate::BrokenInvariant;
 
 use glam::Vec3;
-use std::cmp::Reverse;
 
 /// "No vertex, slot or step" in the u32 index arrays of a progressive mesh and of the code that
 /// builds and encodes one.
@@ -148,6 +147,28 @@ pub struct ProgressiveMesh {
     pub(crate) corner_changes: Vec<CornerChange>,
 }
 
+/// The indices of `deaths` (collapse steps, [`NONE`] for never), never first, then latest first,
+/// ties in index order: a counting sort, as the steps are at most the collapse count.
+fn latest_death_first(deaths: &[u32]) -> Vec<u32> {
+    let latest = deaths.iter().filter(|&&d| d != NONE).max().map_or(0, |&d| d as usize);
+    // Bucket 0 holds never, bucket 1 + latest − d step d.
+    let bucket = |d: u32| if d == NONE { 0 } else { 1 + latest - d as usize };
+    let mut start = vec![0usize; latest + 3];
+    for &d in deaths {
+        start[bucket(d) + 1] += 1;
+    }
+    for b in 1..start.len() {
+        start[b] += start[b - 1];
+    }
+    let mut order = vec![0u32; deaths.len()];
+    for (i, &d) in deaths.iter().enumerate() {
+        let at = &mut start[bucket(d)];
+        order[*at] = i as u32;
+        *at += 1;
+    }
+    order
+}
+
 impl ProgressiveMesh {
     /// Assembles the mesh from the engine's log: orders triangles and slots, renumbers corners.
     pub(crate) fn from_log(
@@ -160,8 +181,7 @@ impl ProgressiveMesh {
         let vertex_total = log.positions.len();
         let triangle_count = input_indices.len() / 3;
         // Triangles: never removed first, then latest removed first; ties by input order.
-        let mut order: Vec<u32> = (0..triangle_count as u32).collect();
-        order.sort_by_key(|&t| (Reverse(log.triangle_death[t as usize]), t));
+        let order = latest_death_first(&log.triangle_death);
         let mut rank = vec![0u32; triangle_count];
         for (i, &t) in order.iter().enumerate() {
             rank[t as usize] = i as u32;
@@ -188,8 +208,7 @@ impl ProgressiveMesh {
                 chain_death[chain[y] as usize] = log.born_at[p as usize];
             }
         }
-        let mut chains: Vec<u32> = (0..n as u32).collect();
-        chains.sort_by_key(|&c| (Reverse(chain_death[c as usize]), c));
+        let chains = latest_death_first(&chain_death);
         let mut slot_of_chain = vec![0u32; n];
         for (slot, &c) in chains.iter().enumerate() {
             slot_of_chain[c as usize] = slot as u32;
@@ -421,5 +440,19 @@ impl<'a> PmCursor<'a> {
     /// [`ProgressiveMesh`]). Rarely a slot holds a vertex no triangle uses any more.
     pub fn vertices(&self) -> &[u32] {
         &self.slot_vertex[..self.pm.vertex_count_after(self.level)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn deaths_order_never_first_then_latest_first_ties_by_index() {
+        assert_eq!(latest_death_first(&[3, NONE, 0, 5, 3, NONE, 1]), [1, 5, 3, 0, 4, 6, 2]);
+        assert_eq!(latest_death_first(&[NONE, NONE]), [0, 1]);
+        assert_eq!(latest_death_first(&[]), Vec::<u32>::new());
     }
 }
