@@ -34,7 +34,7 @@
 
 use glam::Vec3;
 
-use crate::twins::{triangle_layers, vertex_layers};
+use crate::twins::{lowest_of_equal_keys, position_bits, triangle_layers, vertex_layers};
 
 pub(crate) use crate::progressive::NONE;
 
@@ -158,43 +158,15 @@ pub(crate) fn position_classes(positions: &[Vec3], indices: &[u32]) -> PositionC
 
 /// The welding of [`position_classes`]: by position, and within a position by `layer` if given.
 fn weld(positions: &[Vec3], indices: &[u32], layer: Option<&[u32]>) -> PositionClasses {
-    // (x, y, z, vertex) as one integer, which sorts several times faster than a tuple. +0.0 and
-    // −0.0 are the same point; every other value compares by its bits.
-    let key = |v: u32| {
-        let bits = |x: f32| u128::from(if x == 0.0 { 0 } else { x.to_bits() });
-        let p = positions[v as usize];
-        (bits(p.x) << 96) | (bits(p.y) << 64) | (bits(p.z) << 32) | u128::from(v)
-    };
     let mut referenced = vec![false; positions.len()];
     for &i in indices {
         referenced[i as usize] = true;
     }
-    let mut order: Vec<u128> =
-        (0..positions.len() as u32).filter(|&v| referenced[v as usize]).map(key).collect();
-    order.sort_unstable();
-    // Lowest vertex of each run of equal positions (the sort puts it first), or of each layer
-    // within the run (a run holds a handful of layers at most).
-    let mut lowest = vec![NONE; positions.len()];
-    let mut layer_lowest: Vec<(u32, u32)> = Vec::new();
-    for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
-        layer_lowest.clear();
-        for &packed in run {
-            let v = packed as u32;
-            lowest[v as usize] = match layer {
-                None => run[0] as u32,
-                Some(layer) => {
-                    let l = layer[v as usize];
-                    match layer_lowest.iter().find(|&&(of, _)| of == l) {
-                        Some(&(_, low)) => low,
-                        None => {
-                            layer_lowest.push((l, v));
-                            v
-                        }
-                    }
-                }
-            };
-        }
-    }
+    // The lowest referenced vertex at each position, or of each layer at a position.
+    let lowest = lowest_of_equal_keys(positions.len(), |v| {
+        let [x, y, z] = position_bits(positions[v]);
+        referenced[v].then(|| [x, y, z, layer.map_or(0, |layer| layer[v])])
+    });
     let mut class_of = vec![NONE; positions.len()];
     let mut representative = Vec::new();
     for v in 0..positions.len() {
