@@ -304,6 +304,19 @@ fn the_floor_skips_every_collapse_costlier_than_the_max_error() {
     }
 }
 
+/// The largest distance of any of `points` from the triangles `indices` over `positions`.
+fn farthest_from_surface(points: &[glam::Vec3], positions: &[glam::Vec3], indices: &[u32]) -> f32 {
+    points
+        .iter()
+        .map(|&q| {
+            indices.chunks_exact(3).fold(f32::INFINITY, |nearest, t| {
+                let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+                nearest.min(q.distance(closest_point_on_triangle(q, a, b, c)))
+            })
+        })
+        .fold(0.0f32, f32::max)
+}
+
 /// The floor is a distance too (`Probes` in `src/simplify/collapse/checks.rs`): at
 /// the coarsest level of a default build every input vertex of CesiumMan and Fox is within the
 /// floor of the level's surface, in the simplification pose. By the quadric cost alone both
@@ -319,15 +332,7 @@ fn the_floor_keeps_every_input_vertex_near_the_coarsest_level() {
         let (level, positions) = (&clod.levels[coarsest], clod.level_pose_positions(coarsest));
         let input = &clod.apm.pm.positions[..character.mesh.vertex_count()];
         let limit = clod::DEFAULT_MAX_ERROR * bounds_diagonal(&character.mesh.positions);
-        let farthest = input
-            .iter()
-            .map(|&q| {
-                level.indices.chunks_exact(3).fold(f32::INFINITY, |nearest, t| {
-                    let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
-                    nearest.min(q.distance(closest_point_on_triangle(q, a, b, c)))
-                })
-            })
-            .fold(0.0f32, f32::max);
+        let farthest = farthest_from_surface(input, &positions, &level.indices);
         assert!(
             farthest <= limit,
             "{name}: an input vertex is {:.2} % of the diagonal from the {}-triangle level",
@@ -356,15 +361,7 @@ fn the_coarsest_level_stays_within_the_floor_of_the_walking_mesh() {
         let full = character.skinned_positions(&pose);
         let ours = clod.level_skinned_positions(coarsest, &character.skin_matrices(&pose));
         let samples = sample_surface(&ours, &level.indices, 400, 7).expect("the level has area");
-        let farthest = samples
-            .iter()
-            .map(|&q| {
-                character.mesh.indices.chunks_exact(3).fold(f32::INFINITY, |nearest, t| {
-                    let [a, b, c] = [0, 1, 2].map(|k| full[t[k] as usize]);
-                    nearest.min(q.distance(closest_point_on_triangle(q, a, b, c)))
-                })
-            })
-            .fold(0.0f32, f32::max);
+        let farthest = farthest_from_surface(&samples, &full, &character.mesh.indices);
         assert!(
             farthest <= limit,
             "at {time:.2} s a point of the {}-triangle level is {:.2} % of the diagonal from the mesh",
