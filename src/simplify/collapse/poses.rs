@@ -116,13 +116,7 @@ impl Engine<'_> {
     /// The triangles around `plan`'s ends as they are, in pose `f`, into `old`.
     fn posed_fans(&self, poses: &OtherPoses, plan: &Plan, f: usize, old: &mut Vec<[DVec3; 3]>) {
         for end in [plan.u, plan.v] {
-            for corner in self.lists.iter(end) {
-                let t = 3 * (corner / 3);
-                old.push([t, t + 1, t + 2].map(|k| {
-                    let c = self.class_at(k);
-                    self.posed_class(poses, c, self.position[c as usize], f)
-                }));
-            }
+            self.push_posed_fan(poses, end, f, old);
         }
     }
 
@@ -140,13 +134,18 @@ impl Engine<'_> {
         ring.sort_unstable();
         ring.dedup();
         for &c in &ring {
-            for corner in self.lists.iter(c) {
-                let t = 3 * (corner / 3);
-                wide.push([t, t + 1, t + 2].map(|k| {
-                    let c = self.class_at(k);
-                    self.posed_class(poses, c, self.position[c as usize], f)
-                }));
-            }
+            self.push_posed_fan(poses, c, f, wide);
+        }
+    }
+
+    /// The live triangles around class `c` as they are, in pose `f`, onto `out`.
+    fn push_posed_fan(&self, poses: &OtherPoses, c: u32, f: usize, out: &mut Vec<[DVec3; 3]>) {
+        for corner in self.lists.iter(c) {
+            let t = 3 * (corner / 3);
+            out.push([t, t + 1, t + 2].map(|k| {
+                let corner_class = self.class_at(k);
+                self.posed_class(poses, corner_class, self.position[corner_class as usize], f)
+            }));
         }
     }
 
