@@ -5,7 +5,7 @@
 mod common;
 
 use clod_viewer::character::Character;
-use clod_viewer::clod::bytes::{decode, encode, ClodBytesError, FORMAT_VERSION};
+use clod_viewer::clod::bytes::{decode, encode, ClodBytesError, FORMAT_VERSION, SOURCE_TAG};
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::mesh::{compute_normals, PrimitiveRange, SkinnedMesh};
 use clod_viewer::render::lod_source::LodSource;
@@ -162,6 +162,14 @@ fn round_trip(name: &str, glb_len: Option<usize>, character: &Character, clod: &
         clod.levels.len(),
         bytes.len(),
     );
+}
+
+/// The tag of the sources that the page's chain cache keys on (`build.rs`).
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn the_source_tag_is_sixteen_lowercase_hex_digits() {
+    assert_eq!(SOURCE_TAG.len(), 16, "{SOURCE_TAG}");
+    assert!(SOURCE_TAG.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b)), "{SOURCE_TAG}");
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -114,16 +114,16 @@ function buildOffMainThread(moduleUrl, source, onProgress) {
 
 // --- the LOD chain cache (IndexedDB) ------------------------------------------------------------
 
-// Bumped when the chain's bytes change meaning beyond what `decode` checks.
-const CACHE_VERSION = 3; // 3: created vertices blend their children's weights by default; 2: P0 of bind and multi-pose builds in model units
 const CACHE_DB = 'clod-viewer';
 const CACHE_STORE = 'chains';
 
 /**
- * The cache key of a source's LOD chain: SHA-256 of the file (and a .gltf's resources, by
- * name) with the build options; null where the browser has no subtle crypto (plain http).
+ * The cache key of a source's LOD chain: the tag of the code that builds it (`chainCacheTag`,
+ * so an updated viewer never attaches levels its own simplifier did not make), SHA-256 of the
+ * file (and a .gltf's resources, by name) and the build options; null where the browser has no
+ * subtle crypto (plain http).
  */
-async function chainKey(source) {
+async function chainKey(source, codeTag) {
   if (!globalThis.crypto?.subtle || !globalThis.indexedDB) return null;
   const parts = [source.bytes, ...[...(source.resources ?? new Map())].sort(([a], [b]) => (a < b ? -1 : 1)).flatMap(([name, bytes]) => [new TextEncoder().encode(name), bytes])];
   const whole = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
@@ -131,7 +131,7 @@ async function chainKey(source) {
   for (const p of parts) { whole.set(p, at); at += p.length; }
   const digest = new Uint8Array(await crypto.subtle.digest('SHA-256', whole));
   const hex = [...digest].map((b) => b.toString(16).padStart(2, '0')).join('');
-  return `v${CACHE_VERSION}:${hex}:default`;
+  return `${codeTag}:${hex}:default`;
 }
 
 function openCache() {
@@ -449,7 +449,7 @@ export class ClodViewerElement extends HTMLElement {
     const viewer = this.#viewer;
     const current = () => this.#loadId === id && this.#viewer === viewer;
     try {
-      const key = await chainKey(source);
+      const key = await chainKey(source, (await import(moduleUrl)).chainCacheTag());
       const cached = key && (await cacheGet(key));
       if (cached && current()) {
         try {

@@ -95,6 +95,14 @@ fn js_error(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
+/// The identity of the code that builds and reads LOD chains ([`crate::clod::bytes::SOURCE_TAG`]):
+/// the page keys its chain cache on it, so an updated viewer never attaches levels its own
+/// simplifier did not make.
+#[wasm_bindgen(js_name = chainCacheTag)]
+pub fn chain_cache_tag() -> String {
+    crate::clod::bytes::SOURCE_TAG.to_owned()
+}
+
 #[wasm_bindgen]
 impl Viewer {
     /// Loads a character, builds (or takes) its LOD chain and starts the renderer on `canvas`.

@@ -162,6 +162,30 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
     const cached = await levelsArrived(page);
     assert.deepEqual(cached.levels, { levels: levels.levels, lodFrom: 'cache', levelsStop: null });
     assert.match(await page.locator('#stat-lod-build').textContent(), /from the cache/);
+    // The keys carry the tag of the code that built the chain: an entry another build of the
+    // viewer left (its simplifier may make other levels) is not attached; the file builds again.
+    const stored = await page.evaluate(async () => {
+      const { default: init, chainCacheTag } = await import(new URL('pkg/clod_viewer.js', location.href).href);
+      await init();
+      const tag = chainCacheTag();
+      const done = (r) => new Promise((resolve, reject) => { r.onsuccess = () => resolve(r.result); r.onerror = () => reject(r.error); });
+      const db = await done(indexedDB.open('clod-viewer', 1));
+      const store = (mode) => db.transaction('chains', mode).objectStore('chains');
+      const keys = await done(store('readonly').getAllKeys());
+      for (const key of keys) {
+        const value = await done(store('readonly').get(key));
+        const older = store('readwrite');
+        older.put(value, `0000000000000000${key.slice(tag.length)}`);
+        await done(older.delete(key));
+      }
+      db.close();
+      return { tag, keys };
+    });
+    assert.match(stored.tag, /^[0-9a-f]{16}$/);
+    assert.ok(stored.keys.length > 0 && stored.keys.every((k) => k.startsWith(`${stored.tag}:`)), JSON.stringify(stored));
+    const rebuilt = await nextOutcome(page, () => page.evaluate(() => window.__drop()));
+    assert.equal(rebuilt.type, 'load');
+    assert.equal((await levelsArrived(page)).levels.lodFrom, 'build', 'an entry another build left is not attached');
   });
 }
 

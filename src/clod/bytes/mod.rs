@@ -56,6 +56,11 @@ pub const MAGIC: [u8; 4] = *b"CLOD";
 /// The layout this module writes and reads; bump it whenever the layout changes. Version 1
 /// stored every array of a built chain (about 5× the `.glb`).
 pub const FORMAT_VERSION: u32 = 2;
+/// The identity of the sources this library was built from (16 hex digits; see `build.rs`).
+/// Chains decode with any build of one [`FORMAT_VERSION`], but a build whose simplifier changed
+/// makes other levels from the same file: the page keys its chain cache on this tag too, so it
+/// never attaches levels the running code did not make.
+pub const SOURCE_TAG: &str = env!("CLOD_SOURCE_TAG");
 /// Bytes of one collapse record and one corner change.
 const COLLAPSE_BYTES: usize = 32;
 const CORNER_CHANGE_BYTES: usize = 8;
