@@ -156,12 +156,24 @@ async function cacheGet(key) {
   } catch { return null; }
 }
 
-/** Stores `{ clod, buildMs }` under `key`; a cache that cannot be written is skipped. */
+/**
+ * Stores `{ clod, buildMs }` under `key`, and drops the entries of other code tags: no build of
+ * the viewer reads another's, so each update would otherwise leave them behind for good. A cache
+ * that cannot be written is skipped.
+ */
 async function cachePut(key, value) {
   try {
     const db = await openCache();
     const transaction = db.transaction(CACHE_STORE, 'readwrite');
-    transaction.objectStore(CACHE_STORE).put(value, key);
+    const store = transaction.objectStore(CACHE_STORE);
+    store.put(value, key);
+    const tag = key.slice(0, key.indexOf(':') + 1);
+    store.openKeyCursor().onsuccess = (event) => {
+      const cursor = event.target.result;
+      if (!cursor) return;
+      if (typeof cursor.key !== 'string' || !cursor.key.startsWith(tag)) store.delete(cursor.key);
+      cursor.continue();
+    };
     transaction.oncomplete = transaction.onerror = transaction.onabort = () => db.close();
   } catch { /* private mode or quota: the next visit builds again */ }
 }

@@ -186,6 +186,20 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
     const rebuilt = await nextOutcome(page, () => page.evaluate(() => window.__drop()));
     assert.equal(rebuilt.type, 'load');
     assert.equal((await levelsArrived(page)).levels.lodFrom, 'build', 'an entry another build left is not attached');
+    // Storing the new chain drops the other tag's entries.
+    const keysNow = () => page.evaluate(async () => {
+      const done = (r) => new Promise((resolve, reject) => { r.onsuccess = () => resolve(r.result); r.onerror = () => reject(r.error); });
+      const db = await done(indexedDB.open('clod-viewer', 1));
+      const keys = await done(db.transaction('chains').objectStore('chains').getAllKeys());
+      db.close();
+      return keys;
+    });
+    let keys = await keysNow();
+    for (let i = 0; i < 50 && !(keys.length > 0 && keys.every((k) => k.startsWith(`${stored.tag}:`))); i++) {
+      await new Promise((resolve) => setTimeout(resolve, 100));
+      keys = await keysNow();
+    }
+    assert.deepEqual(keys, stored.keys, 'the entries of the other tag are gone, the rebuilt one is stored');
   });
 }
 
