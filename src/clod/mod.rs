@@ -19,6 +19,7 @@
 
 pub mod bytes;
 pub mod chain;
+pub mod frame_quadrics;
 mod morph;
 pub mod poses;
 pub mod shading;
