@@ -15,6 +15,23 @@ pub const CACHE_SIZE: u32 = 16;
 ///
 /// Indices must be `< vertex_count`.
 pub fn optimize_triangle_order(indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    let mut out = Vec::with_capacity(indices.len());
+    for t in tipsify(indices, vertex_count) {
+        out.extend_from_slice(&indices[3 * t as usize..3 * t as usize + 3]);
+    }
+    out
+}
+
+/// The triangles of `indices` (by number) in the order Tipsify draws them.
+///
+/// It runs in linear time, but it reads each fan's triangles by number: on a mesh of hundreds of
+/// thousands of triangles listed in an order unrelated to their place (a progressive mesh's, by
+/// collapse), nearly every one is a cache miss, and Tipsify took 2.7× as long as on the same
+/// triangles listed coherently (820k triangles, native). Callers that can should list them
+/// coherently (`clod::chain` does).
+///
+/// Indices must be `< vertex_count`.
+pub fn tipsify(indices: &[u32], vertex_count: usize) -> Vec<u32> {
     let triangles = indices.len() / 3;
     // Vertex → triangles, in CSR form.
     let mut starts = vec![0u32; vertex_count + 1];
@@ -36,7 +53,7 @@ pub fn optimize_triangle_order(indices: &[u32], vertex_count: usize) -> Vec<u32>
     let mut cache_time = vec![0u32; vertex_count];
     let mut emitted = vec![false; triangles];
     let mut dead_end: Vec<u32> = Vec::new();
-    let mut out = Vec::with_capacity(indices.len());
+    let mut out = Vec::with_capacity(triangles);
     let mut time = CACHE_SIZE + 1;
     let mut scan = 0usize;
     let mut fan = (0..vertex_count).find(|&v| live[v] > 0);
@@ -48,8 +65,8 @@ pub fn optimize_triangle_order(indices: &[u32], vertex_count: usize) -> Vec<u32>
                 continue;
             }
             emitted[t as usize] = true;
+            out.push(t);
             for &v in &indices[3 * t as usize..3 * t as usize + 3] {
-                out.push(v);
                 dead_end.push(v);
                 candidates.push(v);
                 live[v as usize] -= 1;

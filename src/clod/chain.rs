@@ -3,15 +3,19 @@
 //!
 //! Level `i` is the progressive mesh after `kᵢ` collapses, compacted to the vertices its triangles
 //! use, with triangles ordered for the vertex cache (Tipsify) and vertices numbered in first-use
-//! order. Its ancestor table gives, for every vertex of level `i`, the index of the vertex of level
-//! `i + 1` it collapses into: the same vertex for position and for attributes, since the collapse
-//! forest merges wedges (position + attributes) as units. Tables chain: composing `i → i+1` and
-//! `i+1 → i+2` gives `i → i+2`.
+//! order. Tipsify reads each fan's triangles by number, so it is given them coherently: the finest
+//! level in the input's triangle order, each coarser one in the finer level's drawing order (on an
+//! 820k-triangle character the levels' extraction takes 0.54× the time it took in the progressive
+//! mesh's own order, by collapse, natively; in wasm its Tipsify and renumbering went from about 700
+//! to 350 ms). Its ancestor table gives, for every vertex of level `i`, the index of the vertex of
+//! level `i + 1` it collapses into: the same vertex for position and for attributes, since the
+//! collapse forest merges wedges (position + attributes) as units. Tables chain: composing
+//! `i → i+1` and `i+1 → i+2` gives `i → i+2`.
 
 use std::fmt;
 
 use crate::progressive::{ProgressiveMesh, StopReason, NONE};
-use crate::vertex_cache::{first_use_order, optimize_triangle_order};
+use crate::vertex_cache::{first_use_order, tipsify};
 
 /// One discrete level.
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +66,10 @@ pub fn build_levels(pm: &ProgressiveMesh, requested: &[usize]) -> Vec<LodLevel> 
     let mut levels: Vec<LodLevel> = Vec::new();
     let mut new_from_id: Vec<Vec<u32>> = Vec::new();
     let mut actives: Vec<Vec<u32>> = Vec::new();
+    // The last level's triangles, as progressive-mesh slots, in drawing order. A coarser level's
+    // triangles are a prefix of the slots; listed in this order they come coherently, where the
+    // slots' own order (by collapse) is scattered over the mesh.
+    let mut drawn: Vec<u32> = Vec::new();
     for &triangles in requested {
         let k = pm.collapses_for_triangle_count(triangles);
         if levels.last().is_some_and(|l| l.collapses == k) {
@@ -69,9 +77,20 @@ pub fn build_levels(pm: &ProgressiveMesh, requested: &[usize]) -> Vec<LodLevel> 
         }
         let active = active_ancestors(pm, k);
         let live = pm.triangle_count_after(k);
-        let by_id: Vec<u32> = pm.indices[..3 * live].iter().map(|&v| active[v as usize]).collect();
-        let ordered = optimize_triangle_order(&by_id, pm.vertex_total());
-        let (indices, vertices) = first_use_order(&ordered, pm.vertex_total());
+        let (slots, by_id) = match levels.last() {
+            None => in_input_order(pm, &active, live),
+            Some(finer) => in_drawing_order(finer, &drawn, &active, live),
+        };
+        // Tipsify over vertices numbered as they come, then the level's own first-use numbering.
+        let (coherent, ids) = first_use_order(&by_id, pm.vertex_total());
+        let order = tipsify(&coherent, ids.len());
+        let mut ordered = Vec::with_capacity(coherent.len());
+        for &t in &order {
+            ordered.extend_from_slice(&coherent[3 * t as usize..3 * t as usize + 3]);
+        }
+        let (indices, used) = first_use_order(&ordered, ids.len());
+        let vertices: Vec<u32> = used.iter().map(|&c| ids[c as usize]).collect();
+        drawn = order.iter().map(|&t| slots[t as usize]).collect();
         let mut slot = vec![NONE; pm.vertex_total()];
         for (i, &v) in vertices.iter().enumerate() {
             slot[v as usize] = i as u32;
@@ -108,6 +127,39 @@ pub fn build_levels(pm: &ProgressiveMesh, requested: &[usize]) -> Vec<LodLevel> 
             .collect();
     }
     levels
+}
+
+/// The first `live` triangle slots in the input's triangle order (which exporters write part by
+/// part, often already for the vertex cache), and their corners as the vertices that stand for
+/// them (`active`). One scattered write per triangle, then reads in order.
+fn in_input_order(pm: &ProgressiveMesh, active: &[u32], live: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut by_source = vec![(NONE, [0u32; 3]); pm.triangle_source.len()];
+    for (s, corners) in pm.indices.chunks_exact(3).enumerate().take(live) {
+        by_source[pm.triangle_source[s] as usize] = (s as u32, [corners[0], corners[1], corners[2]]);
+    }
+    let mut slots = Vec::with_capacity(live);
+    let mut by_id = Vec::with_capacity(3 * live);
+    for (s, corners) in by_source.into_iter().filter(|&(s, _)| s != NONE) {
+        slots.push(s);
+        by_id.extend(corners.map(|v| active[v as usize]));
+    }
+    (slots, by_id)
+}
+
+/// The first `live` triangle slots in the drawing order of `finer` (`drawn`: its triangles'
+/// slots), and their corners as the vertices that stand for them (`active`), read through
+/// `finer`'s own corners: a vertex's ancestor is its finer ancestor's.
+fn in_drawing_order(finer: &LodLevel, drawn: &[u32], active: &[u32], live: usize) -> (Vec<u32>, Vec<u32>) {
+    let ancestor: Vec<u32> = finer.vertices.iter().map(|&v| active[v as usize]).collect();
+    let mut slots = Vec::with_capacity(live);
+    let mut by_id = Vec::with_capacity(3 * live);
+    for (&s, corners) in drawn.iter().zip(finer.indices.chunks_exact(3)) {
+        if (s as usize) < live {
+            slots.push(s);
+            by_id.extend(corners.iter().map(|&c| ancestor[c as usize]));
+        }
+    }
+    (slots, by_id)
 }
 
 /// Why a chain's coarsest level has more triangles than its build asked for: the simplifier
