@@ -44,8 +44,8 @@ fn rotated_to_min(mut t: [u32; 3]) -> [u32; 3] {
     t
 }
 
-/// Indices in range, no degenerate triangle, no duplicate but a two-sided sheet, the vertex cache's
-/// order, ancestors valid, errors monotone.
+/// Indices in range, no degenerate triangle, no duplicate but a two-sided sheet, the progressive
+/// mesh's triangles in the vertex cache's order, ancestors valid, errors monotone.
 fn check_chain(name: &str, clod: &Clod) {
     let pm = &clod.apm.pm;
     if let Err(broken) = pm.validate() {
@@ -73,6 +73,26 @@ fn check_chain(name: &str, clod: &Clod) {
                 "{name} level {i}: duplicate triangle {t:?}"
             );
         }
+        // The progressive mesh after the level's collapses, triangle for triangle and winding kept,
+        // in whatever order the level draws them.
+        let active = clod::chain::active_ancestors(pm, level.collapses);
+        let live = pm.triangle_count_after(level.collapses);
+        let mut expected: Vec<[u32; 3]> = pm.indices[..3 * live]
+            .chunks_exact(3)
+            .map(|t| rotated_to_min([t[0], t[1], t[2]].map(|v| active[v as usize])))
+            .collect();
+        let mut drawn: Vec<[u32; 3]> = level
+            .indices
+            .chunks_exact(3)
+            .map(|t| rotated_to_min([t[0], t[1], t[2]].map(|v| level.vertices[v as usize])))
+            .collect();
+        expected.sort_unstable();
+        drawn.sort_unstable();
+        assert!(
+            drawn == expected,
+            "{name} level {i}: not the progressive mesh after {} collapses",
+            level.collapses
+        );
         // Drawn in vertex-cache order: at 500 triangles and more the progressive mesh's own order
         // (by collapse) transforms 2.0–2.9 vertices per triangle under a 16-entry cache on these
         // models, the levels 0.58–1.12.
