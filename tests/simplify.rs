@@ -143,6 +143,61 @@ fn a_part_beside_another_vanishes_before_one_standing_alone() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn parts_reaching_out_do_not_vanish_onto_each_other_past_the_floor() {
+    // A cube of side 10, a rod (a tetrahedron from 0.1 to 2 beyond its face x = 10) and a knob
+    // past the rod's tip (from 2.1 to 3 beyond it): an antenna with its ball. The knob may go
+    // onto the rod, 0.1 away, but then the rod may not go: the knob's tip would stand 3 from
+    // the cube, past the floor of 2.5. Priced against each other's input surface, both went.
+    let tetrahedron_at = |x: f32, apex: f32| Mesh {
+        positions: vec![
+            Vec3::new(x, 0.0, 0.0),
+            Vec3::new(x, 1.0, 0.0),
+            Vec3::new(x, 0.0, 1.0),
+            Vec3::new(apex, 0.3, 0.3),
+        ],
+        ..tetrahedron()
+    };
+    let big_cube = Mesh {
+        positions: cube().positions.iter().map(|&p| p * 10.0 - Vec3::new(0.0, 4.5, 4.5)).collect(),
+        ..cube()
+    };
+    let mut mesh = Mesh::default();
+    for part in [big_cube, tetrahedron_at(10.1, 12.0), tetrahedron_at(12.1, 13.0)] {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(&part.positions);
+        mesh.indices.extend(part.indices.iter().map(|&i| i + base));
+    }
+    let tip = Vec3::new(13.0, 0.3, 0.3);
+    for schedule in [Schedule::Strict, Schedule::Passes] {
+        let floor = SimplifyOptions { schedule, max_distance: 2.5, ..options(CollapseMode::Full, 0) };
+        let pm = mesh.simplify(&floor);
+        let k = pm.collapse_count();
+        let last = pm.indices_at(k);
+        let from_tip = last
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [0, 1, 2].map(|i| pm.positions[t[i] as usize]);
+                closest_point_on_triangle(tip, a, b, c).distance(tip)
+            })
+            .fold(f32::INFINITY, f32::min);
+        assert!(
+            from_tip <= 2.5,
+            "{schedule:?}: the knob's tip is {from_tip} from the last level ({} triangles)",
+            last.len() / 3
+        );
+        assert!(last.len() / 3 > 12, "{schedule:?}: only the cube is left");
+        check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), true);
+        // Without the floor, in the strict order, everything but the cube goes (in passes the
+        // cube goes instead: the last part standing cannot vanish).
+        let pm = mesh.simplify(&SimplifyOptions { max_distance: f32::INFINITY, ..floor });
+        let xs: Vec<f32> =
+            pm.indices_at(pm.collapse_count()).iter().map(|&v| pm.positions[v as usize].x).collect();
+        assert!(schedule == Schedule::Passes || xs.iter().all(|&x| x <= 10.0), "{schedule:?}: {xs:?}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn single_triangle_is_left_alone() {
     let mesh =
         Mesh { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], indices: vec![0, 1, 2], ..Mesh::default() };

@@ -3,10 +3,20 @@
 //! the part goes, and each of its points ends up as far away as the nearest surface left, which
 //! for a finger is the hand beside it and for a plate lying on a body the body under it.
 //!
-//! The other parts are taken as they are in the input, not as simplified so far, so a price is a
-//! function of the vanishing part's own classes alone and stays exact in the queue until one of
-//! them changes (the parts left are simplified versions of the input's, close to them at the
-//! levels where a part vanishes).
+//! The other parts are taken as they are in the input, not as simplified so far (the parts left
+//! are simplified versions of the input's, close to them at the levels where a part vanishes),
+//! but without the parts that have vanished already ([`Clearance::vanish`]): on robot.glb the
+//! antenna's tip ball went first, onto the antenna's rod, and then the rod onto the head, each
+//! priced against the other's input surface, which left the tip's points 4.8 % of the diagonal
+//! from anything at a 4.5 % floor; the right hand's palm and fingers likewise went onto each
+//! other, 7.3 % at the 82-triangle level under the default 5 %. So a price can rise when a part
+//! nearby vanishes first, and the engine re-queues an entry whose price changed.
+//!
+//! The price is a mean over a sheet's corners; the distance floor asks more of a part that
+//! vanishes ([`Clearance::leaves_within`]): every one of its input points within the floor of a
+//! part left, in the input pose and in each other pose ([`OtherPoses`], a grid per pose built on
+//! the first such check). A vanished part hands its extreme points to the parts nearest them,
+//! which answer for them when they vanish in turn ([`Clearance::vanish`]).
 //!
 //! The index is built on the first query, so a mesh none of whose parts vanishes pays nothing:
 //! a uniform grid (about one triangle a cell) holding each triangle in every cell its bounding
@@ -15,7 +25,8 @@
 //! apart and always tested, so the grid's memory stays linear in the triangles. Positions are in
 //! the input's units; distances come back squared.
 
-use super::topology::PositionClasses;
+use super::topology::{PositionClasses, NONE};
+use super::OtherPoses;
 use crate::metrics::closest_point_on_triangle;
 use glam::{IVec3, UVec3, Vec3};
 use std::cell::{OnceCell, RefCell};
@@ -31,6 +42,11 @@ use std::collections::HashMap;
 /// the clearance; spread over 100 m, 0.46 s): there most tests are exact ones, since the query
 /// lies in many triangles' bounding spheres.
 const MAX_VISITS: usize = 1024;
+/// Points whose distance [`Clearance::leaves_within`] keeps to vouch for their neighbours: the
+/// test of a point against them is linear in their number.
+const MAX_VOUCHERS: usize = 32;
+/// A search for the nearest triangle, however far.
+const UNBOUNDED: (f32, f32) = (f32::INFINITY, 0.0);
 /// Cells per input triangle at most, over the grid's whole box.
 const CELLS_PER_TRIANGLE: f32 = 8.0;
 /// Cells along the grid's longest side at most: bounds its memory whatever the input's shape.
@@ -44,16 +60,45 @@ const MAX_CELLS_PER_TRIANGLE: u32 = 64;
 pub(super) struct Clearance<'a> {
     positions: &'a [Vec3],
     indices: &'a [u32],
+    /// The input in other poses: a vanishing part's points are measured there too.
+    other_poses: Option<OtherPoses<'a>>,
     index: OnceCell<Index>,
-    /// The last answer per class: a sheet's three edges are priced with the same corners.
-    answers: RefCell<HashMap<u32, (Vec3, Option<f32>)>>,
+    /// Per other pose, its positions and their grid, built on the first measure of a vanishing.
+    posed: OnceCell<Vec<(Vec<Vec3>, Grid)>>,
+    /// The last answer per class, with the part it found: a sheet's three edges are priced with
+    /// the same corners. Dropped when that part vanishes.
+    answers: RefCell<HashMap<u32, (Vec3, Option<Found>)>>,
 }
+
+/// A search's answer: the squared distance to the nearest triangle found, and its part.
+type Found = (f32, u32);
 
 struct Index {
     /// Per position class, the lowest class of its part. A collapse joins two classes of one
     /// part, so a live class is in its input class's part.
     class_part: Vec<u32>,
+    /// Per input vertex, its part ([`NONE`] for a vertex no triangle uses).
+    vertex_part: Vec<u32>,
     grid: Grid,
+    /// `points[point_start[p]..point_start[p + 1]]`: part `p`'s input points, one vertex per
+    /// position class.
+    point_start: Vec<u32>,
+    points: Vec<u32>,
+    /// Per part (by its lowest class), whether it has vanished: searches skip its triangles.
+    vanished: Vec<bool>,
+    /// Per part, the input vertices that vanished parts left to it.
+    left_to: HashMap<u32, Vec<u32>>,
+    /// Parts not vanished.
+    parts_left: usize,
+}
+
+impl Index {
+    /// Part `part`'s own input points and those vanished parts left to it.
+    fn points_of(&self, part: u32) -> impl Iterator<Item = u32> + '_ {
+        let own = &self.points
+            [self.point_start[part as usize] as usize..self.point_start[part as usize + 1] as usize];
+        own.iter().chain(self.left_to.get(&part).into_iter().flatten()).copied()
+    }
 }
 
 struct Grid {
@@ -76,8 +121,19 @@ struct Grid {
 
 impl<'a> Clearance<'a> {
     /// Holds the input; nothing is computed before the first query.
-    pub(super) fn new(positions: &'a [Vec3], indices: &'a [u32]) -> Self {
-        Clearance { positions, indices, index: OnceCell::new(), answers: RefCell::default() }
+    pub(super) fn new(
+        positions: &'a [Vec3],
+        indices: &'a [u32],
+        other_poses: Option<OtherPoses<'a>>,
+    ) -> Self {
+        Clearance {
+            positions,
+            indices,
+            other_poses,
+            index: OnceCell::new(),
+            posed: OnceCell::new(),
+            answers: RefCell::default(),
+        }
     }
 
     /// The squared distance from class `class`, at `q`, to the nearest input triangle of a part
@@ -92,37 +148,195 @@ impl<'a> Clearance<'a> {
     ) -> Option<f32> {
         if let Some(&(at, answer)) = self.answers.borrow().get(&class) {
             if at == q {
-                return answer;
+                return answer.map(|(squared, _)| squared);
             }
         }
-        let index = self.index.get_or_init(|| {
-            let class_part = parts(classes, self.indices);
-            let grid = Grid::new(self.positions, self.indices, |v| {
-                class_part[classes.class_of[v as usize] as usize]
-            });
-            Index { class_part, grid }
-        });
-        let answer = self.search(&index.grid, q, index.class_part[class as usize]);
+        let index = self.index(classes);
+        let answer =
+            self.search(index, (self.positions, &index.grid), q, index.class_part[class as usize], UNBOUNDED);
         self.answers.borrow_mut().insert(class, (q, answer));
-        answer
+        answer.map(|(squared, _)| squared)
     }
 
-    fn search(&self, grid: &Grid, q: Vec3, part: u32) -> Option<f32> {
-        let mut best = f32::INFINITY;
+    /// Whether class `class`'s part, if it vanished, would leave its input points, and those other
+    /// parts left to it, within `limit` of a part left, in the input pose and every other pose
+    /// (each point is looked at only to `limit`, and only until one part is that near). Also
+    /// when no other part is left: there is nothing to measure against.
+    pub(super) fn leaves_within(&self, classes: &PositionClasses, class: u32, limit: f32) -> bool {
+        let index = self.index(classes);
+        let part = index.class_part[class as usize];
+        if index.parts_left <= 1 {
+            return true;
+        }
+        let posed = self.posed.get_or_init(|| self.posed_grids(index));
+        let mut poses = std::iter::once((self.positions, &index.grid))
+            .chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
+        // A point within `d` of a part left puts every point within `limit − d` of it within
+        // `limit` too: those need no search. Searches stop at a part within half the limit, so
+        // most found points vouch for their neighbours.
+        let mut found: Vec<(Vec3, f32)> = Vec::new();
+        poses.all(|pose| {
+            found.clear();
+            index.points_of(part).all(|vertex| {
+                let q = pose.0[vertex as usize];
+                if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
+                    return true;
+                }
+                let Some((squared, _)) = self.search(index, pose, q, part, (limit, 0.5 * limit)) else {
+                    return false;
+                };
+                if found.len() < MAX_VOUCHERS {
+                    found.push((q, squared.sqrt()));
+                }
+                true
+            })
+        })
+    }
+
+    /// Records that class `class`'s part has vanished: later searches skip it, and its extreme
+    /// points (of its own and those left to it: the farthest along each of 26 directions, the
+    /// cube's faces, edges and corners) go to the part left nearest each, which answers for them
+    /// when it vanishes in turn. A point far from everything left is one a part reaches out to, on
+    /// its hull: a tip, a corner. Only parts within `limit` (the floor:
+    /// [`Clearance::leaves_within`] let it vanish) are looked for, and a point within a quarter
+    /// of it of a part left may go to that part rather than the nearest.
+    pub(super) fn vanish(&mut self, classes: &PositionClasses, class: u32, limit: f32) {
+        let index = self.index(classes);
+        let part = index.class_part[class as usize];
+        let mut extremes: Vec<(f32, u32)> = vec![(f32::NEG_INFINITY, NONE); 26];
+        for vertex in index.points_of(part) {
+            let q = self.positions[vertex as usize];
+            for (extreme, direction) in extremes.iter_mut().zip(directions()) {
+                let along = q.dot(direction);
+                if along > extreme.0 {
+                    *extreme = (along, vertex);
+                }
+            }
+        }
+        let mut points: Vec<u32> = extremes.iter().map(|&(_, v)| v).filter(|&v| v != NONE).collect();
+        points.sort_unstable();
+        points.dedup();
+        let heirs: Vec<(u32, u32)> = points
+            .iter()
+            .filter_map(|&vertex| {
+                let q = self.positions[vertex as usize];
+                let near_enough = (limit, 0.25 * limit);
+                let (_, heir) = self.search(index, (self.positions, &index.grid), q, part, near_enough)?;
+                Some((heir, vertex))
+            })
+            .collect();
+        self.answers.get_mut().retain(|_, (_, answer)| answer.is_none_or(|(_, found)| found != part));
+        let Some(index) = self.index.get_mut() else { return };
+        if !std::mem::replace(&mut index.vanished[part as usize], true) {
+            index.parts_left -= 1;
+        }
+        index.left_to.remove(&part);
+        for (heir, vertex) in heirs {
+            index.left_to.entry(heir).or_default().push(vertex);
+        }
+    }
+
+    /// The input's positions in each other pose, and their grids.
+    fn posed_grids(&self, index: &Index) -> Vec<(Vec<Vec3>, Grid)> {
+        let Some(poses) = self.other_poses else { return Vec::new() };
+        (0..poses.count)
+            .map(|f| {
+                let positions: Vec<Vec3> =
+                    (0..self.positions.len()).map(|v| poses.positions[v * poses.count + f]).collect();
+                let grid = Grid::new(&positions, self.indices, |v| index.vertex_part[v as usize]);
+                (positions, grid)
+            })
+            .collect()
+    }
+
+    /// The parts and their grid, built on the first call.
+    fn index(&self, classes: &PositionClasses) -> &Index {
+        self.index.get_or_init(|| {
+            let class_part = parts(classes, self.indices);
+            let vertex_part: Vec<u32> = classes
+                .class_of
+                .iter()
+                .map(|&c| if c == NONE { NONE } else { class_part[c as usize] })
+                .collect();
+            let grid = Grid::new(self.positions, self.indices, |v| vertex_part[v as usize]);
+            // Per part, its classes' representatives (one input vertex per position).
+            let mut point_start = vec![0u32; class_part.len() + 1];
+            for &part in &class_part {
+                point_start[part as usize + 1] += 1;
+            }
+            for k in 0..class_part.len() {
+                point_start[k + 1] += point_start[k];
+            }
+            let mut fill = point_start.clone();
+            let mut points = vec![0u32; class_part.len()];
+            for (class, &part) in class_part.iter().enumerate() {
+                points[fill[part as usize] as usize] = classes.representative[class];
+                fill[part as usize] += 1;
+            }
+            let vanished = vec![false; class_part.len()];
+            let parts_left = class_part.iter().enumerate().filter(|&(c, &part)| part == c as u32).count();
+            Index {
+                class_part,
+                vertex_part,
+                grid,
+                point_start,
+                points,
+                vanished,
+                left_to: HashMap::new(),
+                parts_left,
+            }
+        })
+    }
+
+    /// The squared distance from `q` to the nearest triangle of a part that is neither `part` nor
+    /// vanished, among the triangles of `grid` over `positions` (the input in one pose), and that
+    /// triangle's part; only triangles nearer than `limit` (a distance) are looked for, and the
+    /// search may stop at the first one nearer than `enough`. `None` when none is found.
+    fn search(
+        &self,
+        index: &Index,
+        (positions, grid): (&[Vec3], &Grid),
+        q: Vec3,
+        part: u32,
+        (limit, enough): (f32, f32),
+    ) -> Option<Found> {
+        // A triangle at exactly `limit` is within it: look for those nearer than the next float
+        // (the bits of a non-negative float count up with it).
+        let squared = limit * limit;
+        let limit_squared = if squared.is_finite() { f32::from_bits(squared.to_bits() + 1) } else { squared };
+        let enough_squared = enough * enough;
+        let mut best = (limit_squared, part);
         let mut test = |t: u32| {
             let t = t as usize;
             let (centre, radius) = grid.sphere[t];
             let beyond = (centre.distance(q) - radius).max(0.0);
-            if grid.part[t] != part && beyond * beyond < best {
-                let [a, b, c] = [0, 1, 2].map(|k| self.positions[self.indices[3 * t + k] as usize]);
-                best = best.min(closest_point_on_triangle(q, a, b, c).distance_squared(q));
+            let other = grid.part[t];
+            if other != part && beyond * beyond < best.0 && !index.vanished[other as usize] {
+                let [a, b, c] = [0, 1, 2].map(|k| positions[self.indices[3 * t + k] as usize]);
+                let squared = closest_point_on_triangle(q, a, b, c).distance_squared(q);
+                if squared < best.0 {
+                    best = (squared, other);
+                }
             }
-            best
+            // Nothing nearer is wanted: the shells searched so far cover 0.
+            if best.0 <= enough_squared {
+                0.0
+            } else {
+                best.0
+            }
         };
-        let large = grid.large.iter().fold(f32::INFINITY, |_, &t| test(t));
-        let best = grid.search(q, large, &mut test);
-        best.is_finite().then_some(best)
+        let start = grid.large.iter().fold(limit_squared, |_, &t| test(t));
+        grid.search(q, start, &mut test);
+        (best.1 != part).then_some(best)
     }
+}
+
+/// The 26 directions from a cube's centre to its faces, edges and corners (not normalised: only
+/// the order along each matters).
+fn directions() -> impl Iterator<Item = Vec3> {
+    (0..27)
+        .filter(|&k| k != 13)
+        .map(|k| Vec3::new((k % 3) as f32 - 1.0, ((k / 3) % 3) as f32 - 1.0, (k / 9) as f32 - 1.0))
 }
 
 /// Per class, the lowest class of its connected component (union–find over the triangles).
@@ -344,7 +558,7 @@ mod tests {
             }
         }
         let classes = position_classes(&positions, &indices);
-        let clearance = Clearance::new(&positions, &indices);
+        let clearance = Clearance::new(&positions, &indices, None);
         for k in 0..300 {
             let q = (random() - 0.25) * if k % 10 == 0 { 40.0 } else { 12.0 };
             let class = classes.class_of[indices[(k * 7) % indices.len()] as usize];
@@ -354,7 +568,7 @@ mod tests {
             assert_eq!(clearance.squared_to_other_parts(&classes, class, q), expected);
         }
         // A mesh of one part has no other part.
-        let one = Clearance::new(&positions[..3], &indices[..3]);
+        let one = Clearance::new(&positions[..3], &indices[..3], None);
         assert_eq!(
             one.squared_to_other_parts(&position_classes(&positions[..3], &indices[..3]), 0, Vec3::ZERO),
             None
@@ -376,7 +590,7 @@ mod tests {
             indices.extend([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3].map(|k| k + base));
         }
         let classes = position_classes(&positions, &indices);
-        let clearance = Clearance::new(&positions, &indices);
+        let clearance = Clearance::new(&positions, &indices, None);
         for k in 0..50u32 {
             let class = classes.class_of[indices[k as usize * 12] as usize];
             let q = random();
@@ -414,6 +628,45 @@ mod tests {
     }
 
     #[test]
+    fn a_vanished_part_is_no_clearance_and_hands_its_points_on() {
+        // Three one-triangle parts in the planes x = 0, 1 and 3, each over the same square in
+        // y and z: a point of one is |dx| from another. In a second pose the last part is 1
+        // farther out.
+        let at = |x: f32| [Vec3::new(x, 0.0, 0.0), Vec3::new(x, 1.0, 0.0), Vec3::new(x, 0.0, 1.0)];
+        let positions: Vec<Vec3> = [0.0, 1.0, 3.0].into_iter().flat_map(at).collect();
+        let posed: Vec<Vec3> = [0.0, 1.0, 4.0].into_iter().flat_map(at).collect();
+        let poses = OtherPoses { count: 1, positions: &posed };
+        let indices: Vec<u32> = (0..9).collect();
+        let classes = position_classes(&positions, &indices);
+        let class = |part: u32| classes.class_of[3 * part as usize];
+        let mut clearance = Clearance::new(&positions, &indices, Some(poses));
+        let squared_at = |clearance: &Clearance, part: u32| {
+            clearance.squared_to_other_parts(&classes, class(part), positions[3 * part as usize])
+        };
+        // The farthest a part leaves a point: just within a limit, not within one a bit less.
+        let leaves = |clearance: &Clearance, part: u32, distance: f32| {
+            clearance.leaves_within(&classes, class(part), distance)
+                && !clearance.leaves_within(&classes, class(part), distance * 0.999)
+        };
+        assert_eq!(squared_at(&clearance, 0), Some(1.0));
+        assert!(leaves(&clearance, 0, 1.0));
+        assert!(leaves(&clearance, 2, 3.0), "in the other pose");
+
+        // The middle part goes, leaving its points at x = 1 to the nearest part left, the first.
+        clearance.vanish(&classes, class(1), 10.0);
+        assert_eq!(squared_at(&clearance, 0), Some(9.0));
+        assert!(leaves(&clearance, 2, 4.0));
+        // The first part answers for them too: its own points stand 3 from the last part (4 in
+        // the other pose), those left to it 2 (3).
+        assert!(leaves(&clearance, 0, 4.0));
+
+        // Then the first goes: the last part is alone, with nothing left to measure against.
+        clearance.vanish(&classes, class(0), 10.0);
+        assert_eq!(squared_at(&clearance, 2), None);
+        assert!(clearance.leaves_within(&classes, class(2), 0.0));
+    }
+
+    #[test]
     fn a_copy_lying_on_a_part_is_no_other_part() {
         // Triangle 0 1 2 and its reversed copy on vertices 3 4 5: two layers of classes, one part.
         let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::X, Vec3::Y];
@@ -421,7 +674,7 @@ mod tests {
         let classes = position_classes(&positions, &indices);
         assert_eq!(classes.count(), 6, "the copy is layered apart");
         assert_eq!(parts(&classes, &indices), [0; 6]);
-        let clearance = Clearance::new(&positions, &indices);
+        let clearance = Clearance::new(&positions, &indices, None);
         assert_eq!(clearance.squared_to_other_parts(&classes, classes.class_of[3], Vec3::ZERO), None);
     }
 }

@@ -10,6 +10,34 @@ use crate::progressive::{RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
 
 impl Engine<'_> {
+    /// The plan of `u → v` if it still costs `queued`, the cost its queue entry was keyed by;
+    /// `None` for a collapse no longer valid or priced otherwise. A vanishing part's price rises
+    /// when a part near it vanishes first (`clearance.rs`), with no version of its own changing:
+    /// such an entry goes back in line at its new price.
+    pub(super) fn current_plan(&mut self, u: u32, v: u32, queued: f32) -> Option<Plan> {
+        let plan = self.plan(u, v)?;
+        let cost = plan.cost as f32;
+        if cost == queued {
+            return Some(plan);
+        }
+        if cost > queued && self.lone_sheet_corner(u, v).is_some() {
+            self.push(&plan);
+        }
+        None
+    }
+
+    /// Applies a checked collapse and lets the merged vertex track input vertex `farthest`; a
+    /// part that vanishes with it leaves the clearance, and its farthest input points to the
+    /// nearest parts left (`clearance.rs`).
+    pub(super) fn commit(&mut self, plan: &Plan, farthest: u32) {
+        let vanishing = self.lone_sheet_corner(plan.u, plan.v).is_some();
+        self.apply(plan);
+        self.farthest_input[plan.v as usize] = farthest;
+        if vanishing {
+            self.clearance.vanish(&self.classes, plan.u, self.max_distance as f32);
+        }
+    }
+
     /// Performs a planned (and checked) collapse; `plan` must be the latest [`Engine::plan`]
     /// call, whose pairing scratch it uses.
     pub(super) fn apply(&mut self, plan: &Plan) {

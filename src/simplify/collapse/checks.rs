@@ -95,11 +95,11 @@ impl Engine<'_> {
     }
 
     /// The topological and geometric checks of a planned collapse: link condition, no duplicate
-    /// triangles, no merged constraint lines, no folds. A valid collapse gives the input point
+    /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
     /// the merged vertex is to track and its distance from the surface the collapse leaves (see
     /// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
     /// (`poses.rs`); `None` for an invalid one.
-    pub(super) fn check(&mut self, plan: &Plan) -> Option<(DVec3, f64)> {
+    pub(super) fn check(&mut self, plan: &Plan) -> Option<(u32, f64)> {
         let (u, v) = (plan.u, plan.v);
         let stamp = self.next_stamp();
         for corner in self.lists.iter(v) {
@@ -132,8 +132,12 @@ impl Engine<'_> {
         if count == 2 && opposite[0] == opposite[1] {
             // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
             // standing alone may collapse; both triangles die and nothing of it is left to fold.
-            let survivor_keeps = (self.farthest_input[v as usize], 0.0);
-            return self.is_lone(&[u, v, opposite[0]], 2).then_some(survivor_keeps);
+            // One that would leave a point beyond the floor counts as infinitely far.
+            let sheet = [u, v, opposite[0]];
+            return self.is_lone(&sheet, 2).then(|| {
+                let distance = if self.vanishes_within_floor(sheet) { 0.0 } else { f64::INFINITY };
+                (self.farthest_input[v as usize], distance)
+            });
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
         for corner in self.lists.iter(u) {
@@ -171,8 +175,9 @@ impl Engine<'_> {
         }
         let scratch = std::mem::take(&mut self.probe_scratch);
         let ends = [u, v].map(|end| self.farthest_input[end as usize]);
+        let points = ends.map(|vertex| self.input_positions[vertex as usize].as_dvec3());
         let posed = self.measures_in_poses(plan);
-        let mut probes = Probes::new(ends, plan.p, self.max_distance, scratch, posed);
+        let mut probes = Probes::new(points, plan.p, self.max_distance, scratch, posed);
         let unfolded = self.fan_unfolded(u, v, plan.p, &mut probes)
             && if plan.p == self.position[v as usize] {
                 // v's triangles keep their corners: nothing to check, still surface to measure.
@@ -226,6 +231,15 @@ impl Engine<'_> {
                 probes.measure(ProbeTriangle { corners, cross, length_squared, classes });
             }
         }
+    }
+
+    /// Whether a part vanishing with its last classes (`sheet`) leaves its input points within
+    /// the distance floor of the parts left, in every pose (`clearance.rs`): the floor for a part
+    /// that goes away whole. Its price (`vanishing_error` in `plan.rs`) is a mean over the
+    /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
+    /// the floor from everything left.
+    fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
+        self.clearance.leaves_within(&self.classes, sheet[0], self.max_distance as f32)
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.

@@ -246,10 +246,9 @@ struct Engine<'a> {
     stats: PricingStats,
     /// Whether a collapse was skipped for exceeding the error limit.
     over_floor: bool,
-    /// Per class: of the input vertices it stands for, the position of the one farthest from the
-    /// surface after its last collapse (its own input position until then); see `Probes` in
-    /// `checks.rs`.
-    farthest_input: Vec<DVec3>,
+    /// Per class: of the input vertices it stands for, the one farthest from the surface after
+    /// its last collapse (its representative until then); see `Probes` in `checks.rs`.
+    farthest_input: Vec<u32>,
     /// The input positions ([`SimplifyInput::positions`]).
     input_positions: &'a [Vec3],
     /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`).
@@ -332,13 +331,13 @@ impl<'a> Engine<'a> {
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
         Engine {
             over_floor: false,
-            farthest_input: position.clone(),
+            farthest_input: classes.representative.clone(),
             posed_scratch: Vec::new(),
             input_positions: positions,
             other_poses: input.other_poses,
             max_distance: f64::from(options.max_distance),
             probe_scratch: Vec::new(),
-            clearance: Clearance::new(positions, indices),
+            clearance: Clearance::new(positions, indices, input.other_poses),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
             zero_sums: vec![0.0; priced.stride()],

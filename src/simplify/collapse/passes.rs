@@ -128,8 +128,9 @@ impl Engine<'_> {
                 continue;
             }
             // Re-planning fills the pairing scratch `apply` uses; the cost is still exact (no end
-            // changed), and a wrapped 16-bit stamp shows here as a different cost.
-            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
+            // changed, no part near it vanished), and a wrapped 16-bit stamp shows here as a
+            // different cost.
+            let Some(plan) = self.current_plan(u, v, entry.cost()) else {
                 continue;
             };
             if plan.mean_squared as f32 > max_mean_squared_error {
@@ -145,8 +146,7 @@ impl Engine<'_> {
                 self.over_floor = true;
                 continue;
             }
-            self.apply(&plan);
-            self.farthest_input[plan.v as usize] = farthest;
+            self.commit(&plan, farthest);
             *running_max = running_max.max(entry.cost());
         }
         report(self.live_triangles);

@@ -242,7 +242,7 @@ impl Engine<'_> {
     /// The third corner `x` when `u`, `v` and `x` are a lone two-sided sheet (two live triangles
     /// on the same three classes and nothing else around them), which the collapse of `u` into
     /// `v` makes vanish; `None` otherwise.
-    fn lone_sheet_corner(&self, u: u32, v: u32) -> Option<u32> {
+    pub(super) fn lone_sheet_corner(&self, u: u32, v: u32) -> Option<u32> {
         // Most pricings end here, without walking a list.
         if !self.lists.has_two(u) || !self.lists.has_two(v) {
             return None;

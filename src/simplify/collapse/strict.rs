@@ -51,8 +51,9 @@ impl Engine<'_> {
                 continue;
             }
             // The stamp keeps 16 and 15 bits of the versions; a wrapped stamp is caught by the
-            // cost, which a current entry reproduces exactly.
-            let Some(plan) = self.plan(u, v).filter(|plan| plan.cost as f32 == entry.cost()) else {
+            // cost, which a current entry reproduces exactly, unless a part near it vanished
+            // (see `requeue_repriced`).
+            let Some(plan) = self.current_plan(u, v, entry.cost()) else {
                 continue;
             };
             if plan.mean_squared as f32 > max_mean_squared_error {
@@ -68,8 +69,7 @@ impl Engine<'_> {
                 self.over_floor = true;
                 continue;
             }
-            self.apply(&plan);
-            self.farthest_input[plan.v as usize] = farthest;
+            self.commit(&plan, farthest);
         }
     }
 }
