@@ -30,7 +30,7 @@ use super::OtherPoses;
 use crate::metrics::closest_point_on_triangle;
 use glam::{IVec3, UVec3, Vec3};
 use std::cell::{OnceCell, RefCell};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// A search stops once it has tested this many grid entries and found a triangle of another
 /// part, and answers the nearest found: where parts overlap densely a cell holds hundreds of
@@ -66,8 +66,10 @@ pub(super) struct Clearance<'a> {
     /// Per other pose, its positions and their grid, built on the first measure of a vanishing.
     posed: OnceCell<Vec<(Vec<Vec3>, Grid)>>,
     /// The last answer per class, with the part it found: a sheet's three edges are priced with
-    /// the same corners. Dropped when that part vanishes.
+    /// the same corners. Stale once that part has vanished.
     answers: RefCell<HashMap<u32, (Vec3, Option<Found>)>>,
+    /// Parts found not to vanish within a limit (part, the limit's bits).
+    stranded: RefCell<HashSet<(u32, u32)>>,
 }
 
 /// A search's answer: the squared distance to the nearest triangle found, and its part.
@@ -90,9 +92,20 @@ struct Index {
     left_to: HashMap<u32, Vec<u32>>,
     /// Parts not vanished.
     parts_left: usize,
+    /// Per part, its triangles.
+    part_triangles: Vec<u32>,
+    /// The triangles of parts not vanished, and of those the grids were built over.
+    live_triangles: usize,
+    gridded_triangles: usize,
 }
 
 impl Index {
+    /// A grid over the triangles of the parts not vanished, at `positions`.
+    fn grid_over(&self, positions: &[Vec3], indices: &[u32]) -> Grid {
+        let part_of = |v: u32| self.vertex_part[v as usize];
+        Grid::new(positions, indices, part_of, |t| !self.vanished[part_of(indices[3 * t]) as usize])
+    }
+
     /// Part `part`'s own input points and those vanished parts left to it.
     fn points_of(&self, part: u32) -> impl Iterator<Item = u32> + '_ {
         let own = &self.points
@@ -133,6 +146,7 @@ impl<'a> Clearance<'a> {
             index: OnceCell::new(),
             posed: OnceCell::new(),
             answers: RefCell::default(),
+            stranded: RefCell::default(),
         }
     }
 
@@ -146,12 +160,13 @@ impl<'a> Clearance<'a> {
         class: u32,
         q: Vec3,
     ) -> Option<f32> {
+        let index = self.index(classes);
         if let Some(&(at, answer)) = self.answers.borrow().get(&class) {
-            if at == q {
+            // Stale once the part it found has vanished.
+            if at == q && answer.is_none_or(|(_, found)| !index.vanished[found as usize]) {
                 return answer.map(|(squared, _)| squared);
             }
         }
-        let index = self.index(classes);
         let answer =
             self.search(index, (self.positions, &index.grid), q, index.class_part[class as usize], UNBOUNDED);
         self.answers.borrow_mut().insert(class, (q, answer));
@@ -168,6 +183,11 @@ impl<'a> Clearance<'a> {
         if index.parts_left <= 1 {
             return true;
         }
+        // Parts only vanish and points are only left to a part, so one that is not within the
+        // limit never will be (the limit is the run's floor): its sheet's other edges ask again.
+        if self.stranded.borrow().contains(&(part, limit.to_bits())) {
+            return false;
+        }
         let posed = self.posed.get_or_init(|| self.posed_grids(index));
         let mut poses = std::iter::once((self.positions, &index.grid))
             .chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
@@ -175,7 +195,7 @@ impl<'a> Clearance<'a> {
         // `limit` too: those need no search. Searches stop at a part within half the limit, so
         // most found points vouch for their neighbours.
         let mut found: Vec<(Vec3, f32)> = Vec::new();
-        poses.all(|pose| {
+        let within = poses.all(|pose| {
             found.clear();
             index.points_of(part).all(|vertex| {
                 let q = pose.0[vertex as usize];
@@ -190,7 +210,11 @@ impl<'a> Clearance<'a> {
                 }
                 true
             })
-        })
+        });
+        if !within {
+            self.stranded.borrow_mut().insert((part, limit.to_bits()));
+        }
+        within
     }
 
     /// Records that class `class`'s part has vanished: later searches skip it, and its extreme
@@ -225,14 +249,26 @@ impl<'a> Clearance<'a> {
                 Some((heir, vertex))
             })
             .collect();
-        self.answers.get_mut().retain(|_, (_, answer)| answer.is_none_or(|(_, found)| found != part));
         let Some(index) = self.index.get_mut() else { return };
         if !std::mem::replace(&mut index.vanished[part as usize], true) {
             index.parts_left -= 1;
+            index.live_triangles -= index.part_triangles[part as usize] as usize;
         }
         index.left_to.remove(&part);
         for (heir, vertex) in heirs {
             index.left_to.entry(heir).or_default().push(vertex);
+        }
+        // Once most triangles in the grids have vanished, searches would sweep cells of them:
+        // the grids are built again over the live ones, with cells for their number (each
+        // rebuild at most halves the triangles, so all of them cost a few builds of the first).
+        if index.live_triangles > 0 && 2 * index.live_triangles < index.gridded_triangles {
+            index.grid = index.grid_over(self.positions, self.indices);
+            if let Some(posed) = self.posed.get_mut() {
+                for (positions, grid) in posed.iter_mut() {
+                    *grid = index.grid_over(positions, self.indices);
+                }
+            }
+            index.gridded_triangles = index.live_triangles;
         }
     }
 
@@ -243,7 +279,7 @@ impl<'a> Clearance<'a> {
             .map(|f| {
                 let positions: Vec<Vec3> =
                     (0..self.positions.len()).map(|v| poses.positions[v * poses.count + f]).collect();
-                let grid = Grid::new(&positions, self.indices, |v| index.vertex_part[v as usize]);
+                let grid = index.grid_over(&positions, self.indices);
                 (positions, grid)
             })
             .collect()
@@ -258,7 +294,12 @@ impl<'a> Clearance<'a> {
                 .iter()
                 .map(|&c| if c == NONE { NONE } else { class_part[c as usize] })
                 .collect();
-            let grid = Grid::new(self.positions, self.indices, |v| vertex_part[v as usize]);
+            let grid = Grid::new(self.positions, self.indices, |v| vertex_part[v as usize], |_| true);
+            let live_triangles = self.indices.len() / 3;
+            let mut part_triangles = vec![0u32; class_part.len()];
+            for t in self.indices.chunks_exact(3) {
+                part_triangles[vertex_part[t[0] as usize] as usize] += 1;
+            }
             // Per part, its classes' representatives (one input vertex per position).
             let mut point_start = vec![0u32; class_part.len() + 1];
             for &part in &class_part {
@@ -284,6 +325,9 @@ impl<'a> Clearance<'a> {
                 vanished,
                 left_to: HashMap::new(),
                 parts_left,
+                part_triangles,
+                live_triangles,
+                gridded_triangles: live_triangles,
             }
         })
     }
@@ -318,15 +362,16 @@ impl<'a> Clearance<'a> {
                     best = (squared, other);
                 }
             }
-            // Nothing nearer is wanted: the shells searched so far cover 0.
-            if best.0 <= enough_squared {
-                0.0
+            if best.1 == part {
+                f32::INFINITY // none found yet: the search's budget does not run
+            } else if best.0 <= enough_squared {
+                0.0 // nothing nearer is wanted: the shells searched so far cover 0
             } else {
                 best.0
             }
         };
-        let start = grid.large.iter().fold(limit_squared, |_, &t| test(t));
-        grid.search(q, start, &mut test);
+        let start = grid.large.iter().fold(f32::INFINITY, |_, &t| test(t));
+        grid.search(q, start, limit_squared, &mut test);
         (best.1 != part).then_some(best)
     }
 }
@@ -370,28 +415,39 @@ fn parts(classes: &PositionClasses, indices: &[u32]) -> Vec<u32> {
 
 impl Grid {
     /// `part_of` gives an input vertex's part (every vertex a triangle uses has one).
-    fn new(positions: &[Vec3], indices: &[u32], part_of: impl Fn(u32) -> u32) -> Grid {
+    fn new(
+        positions: &[Vec3],
+        indices: &[u32],
+        part_of: impl Fn(u32) -> u32,
+        keep: impl Fn(usize) -> bool,
+    ) -> Grid {
         let count = indices.len() / 3;
+        let kept: Vec<usize> = (0..count).filter(|&t| keep(t)).collect();
         let corners = |t: usize| [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
-        let (min, max) = indices.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(positions[v as usize]), hi.max(positions[v as usize]))
-        });
+        let (min, max) = kept
+            .iter()
+            .flat_map(|&t| corners(t))
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
         let size = (max - min).max(Vec3::ZERO);
         // Cells the size of a typical triangle (the median of their boxes' longest sides), so a
         // triangle overlaps a few cells and a cell holds a few triangles where the surface is;
         // no more than CELLS_PER_TRIANGLE cells per triangle over the box (a surface fills
         // little of its box), nor MAX_CELLS_PER_AXIS a side.
-        let mut sides: Vec<f32> = (0..count)
-            .map(|t| {
+        let mut sides: Vec<f32> = kept
+            .iter()
+            .map(|&t| {
                 let [a, b, c] = corners(t);
                 (a.max(b).max(c) - a.min(b).min(c)).max_element()
             })
             .collect();
-        let median =
-            if sides.is_empty() { 0.0 } else { *sides.select_nth_unstable_by(count / 2, f32::total_cmp).1 };
+        let median = if sides.is_empty() {
+            0.0
+        } else {
+            *sides.select_nth_unstable_by(kept.len() / 2, f32::total_cmp).1
+        };
         let volume = size.x.max(1e-30) * size.y.max(1e-30) * size.z.max(1e-30);
         let cell = median
-            .max((volume / (CELLS_PER_TRIANGLE * count.max(1) as f32)).cbrt())
+            .max((volume / (CELLS_PER_TRIANGLE * kept.len().max(1) as f32)).cbrt())
             .max(size.max_element() / MAX_CELLS_PER_AXIS as f32);
         let cell = if cell.is_finite() && cell > 0.0 { cell } else { 1.0 };
         let dims = ((size / cell).as_uvec3() + 1).min(UVec3::splat(MAX_CELLS_PER_AXIS));
@@ -412,7 +468,7 @@ impl Grid {
         for pass in 0..2 {
             let mut fill = if pass == 1 { start.clone() } else { Vec::new() };
             let mut entries = if pass == 1 { vec![0u32; start[cells] as usize] } else { Vec::new() };
-            for t in 0..count {
+            for &t in &kept {
                 let (lo, hi) = range(t);
                 if spans((lo, hi)) > MAX_CELLS_PER_TRIANGLE {
                     if pass == 0 {
@@ -455,9 +511,10 @@ impl Grid {
 
     /// Calls `test` with the triangles of the cells around `q`, shell after shell, until the
     /// shells searched hold every triangle nearer than the best squared distance so far (which
-    /// starts at `best` and is what `test` returns), or [`MAX_VISITS`] entries have been tested
-    /// and one was found; returns that distance.
-    fn search(&self, q: Vec3, mut best: f32, test: &mut dyn FnMut(u32) -> f32) -> f32 {
+    /// starts at `best` and is what `test` returns, infinite until one is found) or than
+    /// `within` (squared), or [`MAX_VISITS`] entries have been tested and one was found; returns that
+    /// distance.
+    fn search(&self, q: Vec3, mut best: f32, within: f32, test: &mut dyn FnMut(u32) -> f32) -> f32 {
         let dims = self.dims.as_ivec3();
         // A query outside the grid starts from the nearest cell. After shells 0..s, a triangle
         // not yet seen overlaps no cell of the cube within s − 1 of the start: it lies beyond
@@ -480,7 +537,7 @@ impl Grid {
                     }
                 }
                 let covered = covered.max(0.0);
-                if covered * covered >= best {
+                if covered * covered >= best.min(within) {
                     return best;
                 }
             }
