@@ -380,7 +380,10 @@ pub fn robot() -> Design {
 }
 
 /// The many-part character: the robot's skeleton wearing 57 open smooth-shaded plates.
-pub fn parts() -> Design {
+pub fn parts(detail: f64) -> Design {
+    // `detail` times the quads per plate: columns and rows each × √detail (8 × 4 at detail 1).
+    let scale = detail.sqrt();
+    let (columns, rows) = ((8.0 * scale).round() as u32, (4.0 * scale).round().max(1.0) as u32);
     let joints = skeleton();
     let skin: Vec<usize> = (0..joints.len()).collect();
     let mut primitives = Vec::new();
@@ -397,7 +400,7 @@ pub fn parts() -> Design {
         }
         let radius = (0.02 + 0.12 * a.distance(b)).min(0.09);
         for (k, (from, to)) in [(0.02, 0.31), (0.35, 0.64), (0.68, 0.97)].into_iter().enumerate() {
-            let plate = shell(a, b, (radius, radius * 0.9), (from, to), 8, 4);
+            let plate = shell(a, b, (radius, radius * 0.9), (from, to), columns, rows);
             let material = [STEEL, ORANGE, DARK][(i + k) % 3];
             primitives.push(rigid(plate, i as u16, material));
         }

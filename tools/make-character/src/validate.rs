@@ -343,7 +343,8 @@ fn count_seam_vertices(loaded: &Loaded) -> usize {
     count
 }
 
-/// Checks a robot or many-part character read back with the `gltf` crate: under 1 MB; every
+/// Checks a robot or many-part character read back with the `gltf` crate: under `max_bytes`
+/// (1 MB for the committed assets, more for a dense one made with `--detail`); every
 /// primitive rigidly skinned (weight 1 on one joint in range of its skin); the robot flat-shaded
 /// (every normal its triangle's face normal) with at least 19 primitives, two skins, 40–60 joints,
 /// morph targets with position and normal deltas on one mesh and clips animating their weights,
@@ -352,9 +353,9 @@ fn count_seam_vertices(loaded: &Loaded) -> usize {
 ///
 /// # Errors
 /// A message naming the first check that failed.
-pub fn check_design(bytes: &[u8], robot: bool) -> Result<String, String> {
-    if bytes.len() >= 1 << 20 {
-        return Err(format!("{} bytes, expected under 1 MB", bytes.len()));
+pub fn check_design(bytes: &[u8], robot: bool, max_bytes: usize) -> Result<String, String> {
+    if bytes.len() >= max_bytes {
+        return Err(format!("{} bytes, expected under {max_bytes}", bytes.len()));
     }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| format!("not a valid glTF: {e}"))?;
     let blob = gltf.blob.as_deref().ok_or("GLB has no binary chunk")?;
