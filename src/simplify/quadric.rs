@@ -129,6 +129,68 @@ impl Quadric {
         }
     }
 
+    /// A lower bound of `Q(p)` for every `p` within `radius` of `center`: the bound
+    /// [`Quadric::minimum_lower_bound`] cannot give when `A` is singular, as it is for the
+    /// planes of a flat or cylindrical patch (every normal at a right angle to one direction).
+    ///
+    /// In coordinates `t = p − center`, `Q` is `tᵀ A t + 2 β·t + Q(center)`. Coordinates are
+    /// minimised out one at a time, the one of largest curvature first (symmetric pivoting), while
+    /// the curvature left exceeds 1e-6 of the trace; that minimum over all of space is below the
+    /// one over the ball. A coordinate left (a flat direction) keeps its box `|tₖ| ≤ radius`, a
+    /// superset of the ball, on which its linear term is at least `−2 |βₖ| radius` (its
+    /// quadratic part, positive semi-definite, is dropped). Margins cover rounding: 1e-9 of the
+    /// terms eliminated (pivots down to 1e-6 of the trace), and, as in
+    /// [`Quadric::minimum_lower_bound`], 1e-12 of the terms of `Q(center)`, for an evaluation of
+    /// `Q` near `center` whose terms cancel far from the origin. Returns 0 where that is all it can say
+    /// (a positive semi-definite `Q` is never below 0), and for a non-finite argument.
+    pub fn lower_bound_within(&self, center: DVec3, radius: f64) -> f64 {
+        let [xx, xy, xz, yy, yz, zz] = self.a;
+        let mut m = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
+        let ac = self.a_times(center);
+        let mut beta = [ac.x + self.b[0], ac.y + self.b[1], ac.z + self.b[2]];
+        let mut constant = self.error(center);
+        // The caller's own evaluation of `Q` near `center` rounds in proportion to its terms,
+        // which cancel when the points are far from the origin: the margin covers those too.
+        let quadratic = center.dot(ac);
+        let linear = 2.0 * (self.b[0] * center.x + self.b[1] * center.y + self.b[2] * center.z);
+        let evaluation = quadratic.abs() + linear.abs() + self.c.abs();
+        let mut magnitude = constant.abs();
+        let eps = (xx + yy + zz) * 1e-6;
+        let mut left = [true; 3];
+        for _ in 0..3 {
+            let Some(k) = (0..3).filter(|&k| left[k]).max_by(|&i, &j| m[i][i].total_cmp(&m[j][j])) else {
+                break;
+            };
+            let pivot = m[k][k];
+            if !(pivot > eps) {
+                break;
+            }
+            left[k] = false;
+            // Minimising over tₖ: Q loses βₖ² / mₖₖ, and the others see the Schur complement.
+            let drop = beta[k] * beta[k] / pivot;
+            constant -= drop;
+            magnitude += drop;
+            for i in (0..3).filter(|&i| left[i]) {
+                let factor = m[i][k] / pivot;
+                beta[i] -= factor * beta[k];
+                for j in (0..3).filter(|&j| left[j]) {
+                    m[i][j] -= factor * m[k][j];
+                }
+            }
+        }
+        for k in (0..3).filter(|&k| left[k]) {
+            let slope = 2.0 * beta[k].abs() * radius;
+            constant -= slope;
+            magnitude += slope;
+        }
+        let bound = constant - 1e-9 * magnitude - 1e-12 * evaluation;
+        if bound > 0.0 {
+            bound
+        } else {
+            0.0
+        }
+    }
+
     /// Solves `A p = −b` (see [`Quadric::minimize`]), refusing pivots at or below
     /// `relative_pivot` of the trace.
     fn solve(&self, relative_pivot: f64) -> Option<DVec3> {
@@ -356,6 +418,45 @@ mod tests {
         let flat = Quadric::from_triangle(DVec3::ZERO, DVec3::X, DVec3::Y);
         assert_eq!(flat.minimum_lower_bound(), 0.0);
         assert_eq!(Quadric::ZERO.minimum_lower_bound(), 0.0);
+    }
+
+    #[test]
+    fn lower_bound_within_a_ball_holds_where_the_planes_leave_a_direction_free() {
+        // A cylinder's side planes around an axis along (1, 2, 2) / 3, 5,000 units from the
+        // origin: `A` is singular along the axis, so the global bound can only say 0.
+        let origin = DVec3::new(3e3, -2e3, 5e3);
+        let axis = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        let (u, w) = (DVec3::new(2.0, 1.0, -2.0) / 3.0, DVec3::new(2.0, -2.0, 1.0) / 3.0);
+        let mut q = Quadric::ZERO;
+        for k in 0..7 {
+            let angle = k as f64 * 0.3;
+            let normal = u * angle.cos() + w * angle.sin();
+            let through = origin + normal * 2.0 + axis * (k as f64 * 0.1);
+            q += &Quadric::from_plane(normal, -normal.dot(through), 1.5);
+        }
+        assert_eq!(q.minimum_lower_bound(), 0.0);
+        // Within 0.5 of a centre 3 units out, Q stays above the bound. Q is constant along the
+        // axis, so the bound is its least value over all of space (found with a faint plane
+        // across the axis that fixes the free direction), less the margin.
+        let center = origin + u * 3.0;
+        let bound = q.lower_bound_within(center, 0.5);
+        for k in 0..343 {
+            let step = DVec3::new((k % 7) as f64, (k / 7 % 7) as f64, (k / 49) as f64) / 6.0 - 0.5;
+            let step = step.normalize_or_zero() * 0.5 * (k % 5) as f64 / 4.0;
+            let value = q.error(center + step);
+            assert!(bound <= value, "{bound} above {value} at {step}");
+        }
+        let mut pinned = q;
+        pinned += &Quadric::from_plane(axis, -axis.dot(origin), 1e-6);
+        let least = q.error(pinned.minimize().unwrap());
+        assert!(bound <= least && bound > 0.999 * least, "{bound} vs {least}");
+        // With no singular direction it is no higher than the global minimum.
+        let mut full = q;
+        full += &Quadric::from_plane(axis, -axis.dot(origin), 1.0);
+        let minimum = full.error(full.minimize().unwrap());
+        assert!(full.lower_bound_within(center, 0.5) <= minimum);
+        assert_eq!(Quadric::ZERO.lower_bound_within(center, 1.0), 0.0);
+        assert_eq!(q.lower_bound_within(DVec3::NAN, 1.0), 0.0);
     }
 
     #[test]

@@ -505,9 +505,21 @@ impl<'a> Engine<'a> {
             sums.push((sum, self.stamp_of(v.min(x), v.max(x))));
         }
         for (&x, (sum, stamp)) in others.iter().zip(&sums) {
+            // Where the pair's planes leave a direction free (a flat or cylindrical patch, every
+            // plate of an armour), the least value over all of space is 0 and would have the
+            // edge priced at the next pop. Every placement lies within one edge length of the
+            // midpoint (`price` in `plan.rs`; the f32 rounding of the point within 1e-6 of its
+            // coordinates), so the least value within that ball is a bound too.
+            let mut error_bound = sum.minimum_lower_bound();
+            if error_bound == 0.0 {
+                let (a, b) = (self.position[v as usize], self.position[x as usize]);
+                let (center, length) = (0.5 * (a + b), a.distance(b));
+                let radius = length + 1e-6 * (length + center.abs().max_element());
+                error_bound = sum.lower_bound_within(center, radius);
+            }
             // The pair's area is the sum's (relaxing drops attribute planes, not area), so the
             // bound scales like the key.
-            let bound = self.order_key(sum.minimum_lower_bound(), sum.weight) as f32;
+            let bound = self.order_key(error_bound, sum.weight) as f32;
             self.queue.push(Candidate::bound(bound, v.min(x), v.max(x), *stamp));
         }
         self.stats.bounds += others.len() as u64;
