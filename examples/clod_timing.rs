@@ -7,13 +7,15 @@
 //! build's progress reports: poses (set-up and multi-pose quadrics), simplify (collapses and
 //! progressive mesh), back-propagation, and chain (levels, Tipsify, ancestor tables).
 //! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order.
+//! `--bind` simplifies in the bind pose alone instead of the default multi-pose, to see what the
+//! other poses cost.
 //! `--counts` adds the collapse engine's counts of one build (`"counts": {...}`, see
 //! `simplify::PricingStats`): collapses, exact pricings, and edges queued under a bound.
 
 use std::path::Path;
 use std::time::Instant;
 
-use clod_viewer::clod::{self, ClodOptions};
+use clod_viewer::clod::{self, ClodOptions, SimplificationPose};
 use clod_viewer::import;
 use clod_viewer::simplify::pricing_stats;
 use clod_viewer::Schedule;
@@ -25,10 +27,11 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let passes = args.iter().any(|a| a == "--passes");
     let counts = args.iter().any(|a| a == "--counts");
+    let bind = args.iter().any(|a| a == "--bind");
     let schedule = if passes { Schedule::Passes } else { Schedule::Strict };
-    let files: Vec<String> = args.into_iter().filter(|a| a != "--passes" && a != "--counts").collect();
+    let files: Vec<String> = args.into_iter().filter(|a| !a.starts_with("--")).collect();
     if files.is_empty() {
-        eprintln!("usage: clod_timing [--passes] [--counts] FILE.glb|FILE.gltf...");
+        eprintln!("usage: clod_timing [--passes] [--counts] [--bind] FILE.glb|FILE.gltf...");
         std::process::exit(2);
     }
     for file in files {
@@ -41,7 +44,10 @@ fn main() {
         };
         let n = character.mesh.triangle_count();
         let levels = FRACTIONS.iter().map(|f| ((n as f64 * f).round() as usize).max(1)).collect();
-        let options = ClodOptions { level_triangles: Some(levels), schedule, ..ClodOptions::default() };
+        let mut options = ClodOptions { level_triangles: Some(levels), schedule, ..ClodOptions::default() };
+        if bind {
+            options.pose = SimplificationPose::Bind;
+        }
         let mut best = f64::INFINITY;
         let mut best_phases = Vec::new();
         let budget = Instant::now();
