@@ -206,6 +206,7 @@ mod tests {
             triangle_materials: &[],
             vertex_quadrics: None,
             other_poses: None,
+            rigid_triangles: &[],
         };
         simplify(&input, &SimplifyOptions { target_triangles: 4, ..SimplifyOptions::default() }).unwrap()
     }

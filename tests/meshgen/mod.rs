@@ -29,6 +29,7 @@ impl Mesh {
             triangle_materials: &self.materials,
             vertex_quadrics: None,
             other_poses: None,
+            rigid_triangles: &[],
         }
     }
 

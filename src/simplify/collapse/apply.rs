@@ -193,6 +193,8 @@ impl Engine<'_> {
         self.geometric[vi] = geometric;
         let tu = self.total[ui];
         self.total[vi] += &tu;
+        // A hard corner that moves is no longer one.
+        self.hard_corner[vi] &= self.position[vi] == p;
         self.position[vi] = p;
         if !self.relaxed.is_empty() {
             self.relaxed[vi] = self.relaxed_quadric(vi);
