@@ -551,8 +551,9 @@ const HARD_CORNER_COS: f64 = 0.1;
 /// Per class: whether it is a *hard corner*, where a collapse into it keeps its position instead
 /// of the quadric minimiser's (`plan.rs`). That is a faceted class (every wedge's normal is zero,
 /// see [`SimplifyOptions::normal_channel`]) whose triangles are all rigid
-/// ([`SimplifyInput::rigid_triangles`]) and two of which meet at [`HARD_CORNER_COS`] or sharper:
-/// a corner or edge of a rigid, flat-shaded mechanical part.
+/// ([`SimplifyInput::rigid_triangles`]) and two of which meet at [`HARD_CORNER_COS`] or sharper
+/// (found in two sweeps, which miss a pair only where no normal is that far from the one farthest
+/// from the first): a corner or edge of a rigid, flat-shaded mechanical part.
 ///
 /// Why: merged, a hard-surface part's face planes have their minimiser inside the part (the
 /// midpoint of a box's edge between its two end caps), so free placement cuts the part's volume
@@ -579,10 +580,18 @@ fn hard_corners(
     (0..classes.count() as u32)
         .map(|c| {
             let triangles = || lists.iter(c).map(|corner| corner as usize / 3);
-            classes.wedges_of(c).iter().all(|&w| faceted(w))
-                && triangles().all(|t| input.rigid_triangles[t])
-                && triangles()
-                    .any(|t| triangles().any(|s| input_normal[t].dot(input_normal[s]) < HARD_CORNER_COS))
+            let Some(first) = triangles().next().map(|t| input_normal[t]) else { return false };
+            if !(classes.wedges_of(c).iter().all(|&w| faceted(w))
+                && triangles().all(|t| input.rigid_triangles[t]))
+            {
+                return false;
+            }
+            // Two sweeps, so a vertex with thousands of triangles costs thousands of products, not
+            // millions: the normal farthest from the first, then any normal that far from it. On a
+            // box's corner or edge the first sweep already finds a face at a right angle.
+            let normals = || triangles().map(|t| input_normal[t]);
+            let farthest = normals().min_by(|a, b| a.dot(first).total_cmp(&b.dot(first))).unwrap_or(first);
+            farthest.dot(first) < HARD_CORNER_COS || normals().any(|n| n.dot(farthest) < HARD_CORNER_COS)
         })
         .collect()
 }
