@@ -24,7 +24,9 @@
 // Error: symmetric sampled surface distance (seeded, same samples for all) against the full mesh skinned at
 // the same frame, in % of the bind-pose bounding-box diagonal; mean averaged over frames, Hausdorff the
 // worst frame. Frames: 4 of each of the first 2 clips ((f + 0.5) / 4 of the duration); --short: 2 frames of
-// the first clip, 4,000 samples (the regression test, tests/js/animated.test.mjs, runs that form).
+// the first clip, 4,000 samples (the regression test, tests/js/animated.test.mjs, runs that form). For the
+// worst level it prints the mean's two halves as well: the input's distance from the level (what the level
+// misses) and the level's from the input (where it strays off the input's surface).
 import { readFileSync, existsSync, statSync, writeFileSync } from 'node:fs';
 import { basename } from 'node:path';
 import { pathToFileURL } from 'node:url';
@@ -123,13 +125,17 @@ function measureModel(path, { samples, frames, clips }) {
     }
     const unique = kept;
 
-    const sums = unique.map(() => ({ ours: [0, 0], simplify: [0, 0], attributes: [0, 0], welded: [0, 0] }));
+    // Per variant: the sums of the mean and of its two halves (the input's samples from the level: what
+    // the level misses; the level's from the input: where it strays), and the largest distance.
+    const sums = unique.map(() => ({ ours: [0, 0, 0, 0], simplify: [0, 0, 0, 0], attributes: [0, 0, 0, 0], welded: [0, 0, 0, 0] }));
     let n = 0;
     for (const clip of clipNames) {
       for (let f = 0; f < frames; f++) {
         const t = character.clipDuration(clip) * (f + 0.5) / frames;
         const full = character.skinnedPositions(clip, t);
-        const add = (acc, d) => { acc[0] += d.mean; acc[1] = Math.max(acc[1], d.hausdorff); };
+        const add = (acc, d) => {
+          acc[0] += d.mean; acc[1] = Math.max(acc[1], d.hausdorff); acc[2] += d.meanFromA; acc[3] += d.meanFromB;
+        };
         unique.forEach((row, k) => {
           const i = levelOf(row);
           const level = clod.level(i);
@@ -141,7 +147,9 @@ function measureModel(path, { samples, frames, clips }) {
         n++;
       }
     }
-    const pct = (acc) => ({ mean: 100 * acc[0] / n / diag, hausdorff: 100 * acc[1] / diag });
+    const pct = (acc) => ({
+      mean: 100 * acc[0] / n / diag, hausdorff: 100 * acc[1] / diag, missed: 100 * acc[2] / n / diag, strayed: 100 * acc[3] / n / diag,
+    });
     const levels = unique.map((row, k) => {
       const ours = pct(sums[k].ours), s = pct(sums[k].simplify), a = pct(sums[k].attributes), w = pct(sums[k].welded);
       const t = { simplify: row.simplify.length / 3, attributes: row.attributes.length / 3, welded: row.welded.length / 3 };
@@ -172,7 +180,7 @@ function measureModel(path, { samples, frames, clips }) {
       .map((l) => ({ triangles: l.triangles.ours, ours: l.ours.hausdorff, better: l[l.better].hausdorff }));
     return {
       name, triangles: character.triangleCount, clips: clipNames, targets: counts, flags, withoutPermissive, attributes: input.what, merged, levels, meanRatio,
-      worst: { ratio: worst.ratio, triangles: worst.triangles.ours }, hausdorffHigher, informativeMean,
+      worst: { ratio: worst.ratio, triangles: worst.triangles.ours, ours: worst.ours, better: worst[worst.better] }, hausdorffHigher, informativeMean,
       welded: weldedRatios.length
         ? { meanRatio: weldedRatios.reduce((a, b) => a + b, 0) / weldedRatios.length, worstRatio: Math.max(...weldedRatios), levels: weldedRatios.length }
         : null,
@@ -220,7 +228,9 @@ export function format(model) {
     (lossless && model.informativeMean
       ? `; over the ${model.informativeMean.levels} levels not lossless for both: ${model.informativeMean.ratio.toFixed(2)} (not the target)`
       : ''));
-  lines.push(`worst level: ${model.worst.ratio.toFixed(2)} at ${model.worst.triangles} triangles (target <= ${TARGET_WORST_RATIO})`);
+  lines.push(`worst level: ${model.worst.ratio.toFixed(2)} at ${model.worst.triangles} triangles (target <= ${TARGET_WORST_RATIO}); ` +
+    `its halves, ours vs the better meshoptimizer: the input's mean distance from the level ${f(model.worst.ours.missed)} vs ` +
+    `${f(model.worst.better.missed)} %, the level's from the input ${f(model.worst.ours.strayed)} vs ${f(model.worst.better.strayed)} %`);
   lines.push(`levels with a higher animated Hausdorff distance than the better meshoptimizer (target: none): ${hausdorffText(model)}`);
   if (model.welded) {
     lines.push(`against the position-welded simplify (not a target: it merges across uv and normal seams, so its ` +

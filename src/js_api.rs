@@ -477,10 +477,6 @@ fn flatten(v: &[glam::Vec3]) -> Vec<f32> {
     v.iter().flat_map(|p| p.to_array()).collect()
 }
 
-/// Symmetric surface distance between two triangle meshes (xyz positions, triangle indices),
-/// from `samples` seeded points on each: `{ mean, hausdorff }` in model units.
-///
-/// Throws when indices are out of range or either mesh has no area.
 /// A Rust resolver over a JS `resolve(uri) → Uint8Array | null | undefined`.
 fn resolver_of(resolve: &js_sys::Function) -> impl FnMut(&str) -> Option<Vec<u8>> + '_ {
     |uri: &str| {
@@ -492,6 +488,12 @@ fn resolver_of(resolve: &js_sys::Function) -> impl FnMut(&str) -> Option<Vec<u8>
     }
 }
 
+/// Symmetric surface distance between two triangle meshes (xyz positions, triangle indices),
+/// from `samples` seeded points on each: `{ mean, meanFromA, meanFromB, hausdorff }` in model
+/// units, `mean` being the mean of the halves (A's samples from B: what B misses; B's from A:
+/// where B strays).
+///
+/// Throws when indices are out of range or either mesh has no area.
 #[wasm_bindgen(js_name = surfaceDistance)]
 pub fn surface_distance(
     positions_a: &[f32],
@@ -508,8 +510,12 @@ pub fn surface_distance(
     let out = js_sys::Object::new();
     js_sys::Reflect::set(&out, &"mean".into(), &f64::from(d.mean).into())
         .map_err(|_| JsError::new("Reflect.set"))?;
-    js_sys::Reflect::set(&out, &"hausdorff".into(), &f64::from(d.hausdorff).into())
-        .map_err(|_| JsError::new("Reflect.set"))?;
+    for (key, value) in
+        [("meanFromA", d.mean_from_a), ("meanFromB", d.mean_from_b), ("hausdorff", d.hausdorff)]
+    {
+        js_sys::Reflect::set(&out, &key.into(), &f64::from(value).into())
+            .map_err(|_| JsError::new("Reflect.set"))?;
+    }
     Ok(out)
 }
 

@@ -13,8 +13,12 @@ use glam::{DVec3, Vec3};
 /// Distances between two surfaces in both directions; see the module docs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceDistance {
-    /// Mean over the samples of both surfaces.
+    /// Mean over the samples of both surfaces: the mean of the two halves below.
     pub mean: f32,
+    /// Mean distance of the first surface's samples from the second: what the second misses.
+    pub mean_from_a: f32,
+    /// Mean distance of the second surface's samples from the first: where the second strays.
+    pub mean_from_b: f32,
     /// The largest sample distance in either direction (sampled Hausdorff distance).
     pub hausdorff: f32,
 }
@@ -42,7 +46,12 @@ pub fn surface_distance(
     let on_b = sample_surface(b.0, b.1, samples, seed ^ 0x9e37_79b9_7f4a_7c15)?;
     let (mean_ab, max_ab) = one_way(&on_a, &TriangleGrid::new(b.0, b.1));
     let (mean_ba, max_ba) = one_way(&on_b, &TriangleGrid::new(a.0, a.1));
-    Some(SurfaceDistance { mean: 0.5 * (mean_ab + mean_ba), hausdorff: max_ab.max(max_ba) })
+    Some(SurfaceDistance {
+        mean: 0.5 * (mean_ab + mean_ba),
+        mean_from_a: mean_ab,
+        mean_from_b: mean_ba,
+        hausdorff: max_ab.max(max_ba),
+    })
 }
 
 fn one_way(points: &[Vec3], grid: &TriangleGrid) -> (f32, f32) {
@@ -347,6 +356,9 @@ mod tests {
         let d = surface_distance((&a, &ia), (&a, &ia[..3]), 4000, 3).unwrap();
         assert!(d.hausdorff > 0.6 && d.hausdorff <= std::f32::consts::FRAC_1_SQRT_2 + 1e-6, "{d:?}");
         assert!(d.mean > 0.0 && d.mean < 0.2, "{d:?}");
+        // The half lies on the whole: all of the distance is what it misses.
+        assert!(d.mean_from_b < 1e-6 && d.mean_from_a > 0.0, "{d:?}");
+        assert_eq!(d.mean, 0.5 * (d.mean_from_a + d.mean_from_b));
     }
 
     #[test]
