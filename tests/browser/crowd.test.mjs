@@ -5,7 +5,7 @@
 // A small page and a small crowd: SwiftShader draws a few hundred thousand triangles per second.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, clock, savePng, SMALL_VIEWPORT } from './helpers.mjs';
+import { launch, openPage, frame, readPixels, crop, clock, savePng, decodePixels, SMALL_VIEWPORT } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -130,13 +130,13 @@ test('crowd.html: the docs page with a crowd element loads, draws the crowd and 
   await page.goto(new URL('crowd.html', (await import('./helpers.mjs')).baseUrl).href);
   await page.waitForFunction(() => window.__events.includes('lod') || window.__events.includes('error'), null, { timeout: 180_000 });
   assert.ok(!(await page.evaluate(() => window.__events)).includes('error'), logs.join('\n'));
-  const { state, pixels } = await page.evaluate(async () => {
+  const { state, encoded } = await page.evaluate(async () => {
     const el = document.getElementById('crowd');
     el.pause();
     const state = el.renderFrame(performance.now());
-    const p = await el.readPixels();
-    return { state, pixels: { width: p.width, height: p.height, data: Array.from(p.data) } };
+    return { state, encoded: window.__encodePixels(await el.readPixels()) };
   });
+  const pixels = decodePixels(encoded);
   assert.equal(state.mode, 'crowd');
   assert.equal(state.crowd.instances, 400);
   assert.equal(state.crowd.perLevel.reduce((a, b) => a + b, 0), state.crowd.drawn);

@@ -3,7 +3,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync } from 'node:fs';
-import { launch, baseUrl, crop, foregroundFraction } from './helpers.mjs';
+import { launch, baseUrl, crop, foregroundFraction, decodePixels } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -48,17 +48,16 @@ async function waitLoaded(page, id) {
 
 // The share of non-background pixels in each of an element's views, paused at `time`.
 async function viewCoverage(page, id, time = 0.4) {
-  const { state, pixels } = await page.evaluate(async ([id, time]) => {
+  const { state, encoded } = await page.evaluate(async ([id, time]) => {
     const el = document.getElementById(id);
     el.pause();
     el.setTime(time);
     // Framed: where the dolly happens to be would make the character as small as its far end.
     el.setState({ distanceMode: 'manual', distance: 1 });
     const state = el.renderFrame(performance.now());
-    const p = await el.readPixels();
-    return { state, pixels: { width: p.width, height: p.height, data: Array.from(p.data) } };
+    return { state, encoded: window.__encodePixels(await el.readPixels()) };
   }, [id, time]);
-  pixels.data = Uint8Array.from(pixels.data);
+  const pixels = decodePixels(encoded);
   return { state, coverage: state.views.map((v) => foregroundFraction(crop(pixels, v.rect))) };
 }
 
