@@ -575,13 +575,12 @@ fn hard_corners(
     let (Some(channel), false) = (normal_channel, input.rigid_triangles.is_empty()) else {
         return vec![false; classes.count()];
     };
-    let m = input.attribute_weights.len();
-    let faceted = |w: u32| input.attributes[w as usize * m + channel..][..3] == [0.0; 3];
+    let stride = input.attribute_weights.len();
     (0..classes.count() as u32)
         .map(|c| {
             let triangles = || lists.iter(c).map(|corner| corner as usize / 3);
             let Some(first) = triangles().next().map(|t| input_normal[t]) else { return false };
-            if !(classes.wedges_of(c).iter().all(|&w| faceted(w))
+            if !(all_faceted(classes.wedges_of(c), input.attributes, stride, channel)
                 && triangles().all(|t| input.rigid_triangles[t]))
             {
                 return false;
@@ -594,4 +593,14 @@ fn hard_corners(
             farthest.dot(first) < HARD_CORNER_COS || normals().any(|n| n.dot(farthest) < HARD_CORNER_COS)
         })
         .collect()
+}
+
+/// Whether every wedge of `wedges` is faceted: its normal (channel `channel` of its row of
+/// `stride` attributes) is zero, which the simplifier does not price (see `topology::creases`).
+/// Merged faceted wedges stay so.
+fn all_faceted(wedges: &[u32], attributes: &[f32], stride: usize, channel: usize) -> bool {
+    wedges.iter().all(|&w| {
+        let at = w as usize * stride + channel;
+        attributes[at..at + 3] == [0.0; 3]
+    })
 }

@@ -18,7 +18,7 @@
 use super::super::quadric::Quadric;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::CollapseMode;
-use super::{Engine, Placement, Plan};
+use super::{all_faceted, Engine, Placement, Plan};
 use glam::DVec3;
 
 impl Engine<'_> {
@@ -110,14 +110,10 @@ impl Engine<'_> {
         self.price(u, v, ku, kv, material_edge)
     }
 
-    /// Whether every wedge of class `c` is faceted: a zero normal, which the simplifier does not
-    /// price (see `topology::creases`). Merged faceted wedges stay so.
+    /// Whether every wedge of class `c` is faceted now (see `all_faceted`).
     fn is_faceted(&self, c: u32) -> bool {
         let Some(channel) = self.normal_channel else { return false };
-        self.classes.wedges_of(c).iter().all(|&w| {
-            let at = w as usize * self.channels + channel;
-            self.wedge_attributes[at..at + 3] == [0.0; 3]
-        })
+        all_faceted(self.classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
     }
 
     /// Class `c`'s relaxed quadric: its total quadric with each wedge's attributes reduced out
