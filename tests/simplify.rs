@@ -143,6 +143,51 @@ fn a_part_beside_another_vanishes_before_one_standing_alone() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn an_open_part_vanishes_onto_a_surface_within_the_floor_and_not_beyond() {
+    // A flat 6 × 5 plate (it goes down to two triangles without error), a lone triangle 0.5
+    // above it and another 14 beyond its edge, both open parts. Under a floor of 1 the near one
+    // goes (its points stay 0.5 from the plate's live triangles), the far one stays: 60 + 2
+    // triangles become 3.
+    let mut mesh = grid(6, 5, |_, _| 0.0);
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend([
+        Vec3::new(2.0, 2.0, 0.5),
+        Vec3::new(3.0, 2.0, 0.5),
+        Vec3::new(2.0, 3.0, 0.5),
+        Vec3::new(20.0, 0.0, 0.0),
+        Vec3::new(21.0, 0.0, 0.0),
+        Vec3::new(20.0, 1.0, 0.0),
+    ]);
+    mesh.indices.extend([0, 1, 2, 3, 4, 5].map(|i| base + i));
+    let runs = [
+        (CollapseMode::Full, Schedule::Strict),
+        (CollapseMode::HalfEdge, Schedule::Strict),
+        (CollapseMode::Full, Schedule::Passes),
+    ];
+    for (mode, schedule) in runs {
+        let pm = mesh.simplify(&SimplifyOptions { schedule, max_distance: 1.0, ..options(mode, 0) });
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 3, "{mode:?} {schedule:?}");
+        let last = pm.indices_at(k);
+        let zs: Vec<f32> = last.iter().map(|&v| pm.positions[v as usize].z).collect();
+        assert!(zs.iter().all(|&z| z == 0.0), "{mode:?} {schedule:?}: the near triangle is left: {zs:?}");
+        let far = last.iter().filter(|&&v| pm.positions[v as usize].x >= 20.0).count();
+        assert_eq!(far, 3, "{mode:?} {schedule:?}: the far triangle vanished");
+        check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), false);
+        // Without the floor one of the plate and the far triangle goes onto the other (in the
+        // strict order the far one, the plate having come down to one triangle between its
+        // locked corners; in passes the plate), and the last part left cannot vanish.
+        let pm =
+            mesh.simplify(&SimplifyOptions { schedule, max_distance: f32::INFINITY, ..options(mode, 0) });
+        let k = pm.collapse_count();
+        assert_eq!(pm.triangle_count_after(k), 1, "{mode:?} {schedule:?}");
+        let on_plate = pm.indices_at(k).iter().all(|&v| pm.positions[v as usize].x <= 6.0);
+        assert!(schedule == Schedule::Passes || on_plate, "{mode:?} {schedule:?}");
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn parts_reaching_out_do_not_vanish_onto_each_other_past_the_floor() {
     // A cube of side 10, a rod (a tetrahedron from 0.1 to 2 beyond its face x = 10) and a knob
     // past the rod's tip (from 2.1 to 3 beyond it): an antenna with its ball. The knob may go

@@ -18,6 +18,10 @@
 //! the first such check). A vanished part hands its extreme points to the parts nearest them,
 //! which answer for them when they vanish in turn ([`Clearance::vanish`]).
 //!
+//! An open part (its last triangle) is measured against the live triangles of the parts left
+//! as well (`collapse/plan.rs`, `Engine::squared_to_level`): [`Clearance::visit_near`] finds the
+//! input triangles near a point, and the triangles now standing for them are tested.
+//!
 //! The index is built on the first query, so a mesh none of whose parts vanishes pays nothing:
 //! a uniform grid (about one triangle a cell) holding each triangle in every cell its bounding
 //! box overlaps, searched shell by shell around the query until the shells cover the nearest
@@ -171,6 +175,44 @@ impl<'a> Clearance<'a> {
             self.search(index, (self.positions, &index.grid), q, index.class_part[class as usize], UNBOUNDED);
         self.answers.borrow_mut().insert(class, (q, answer));
         answer.map(|(squared, _)| squared)
+    }
+
+    /// The input points of class `class`'s part: its own (one per position class) and those
+    /// vanished parts left to it.
+    pub(super) fn points_of_part(&self, classes: &PositionClasses, class: u32) -> Vec<u32> {
+        let index = self.index(classes);
+        index.points_of(index.class_part[class as usize]).collect()
+    }
+
+    /// Calls `visit` with the input triangles of parts other than `class`'s and not vanished
+    /// that may lie within `radius` of `q` (in the simplification pose), nearest cells first.
+    /// `visit` answers the squared distance the caller has found so far (infinite for none): the
+    /// search skips the triangles and stops at the shells beyond it, and once one is found, after
+    /// [`MAX_VISITS`] entries, as [`Clearance::squared_to_other_parts`] does.
+    pub(super) fn visit_near(
+        &self,
+        classes: &PositionClasses,
+        class: u32,
+        q: Vec3,
+        radius: f32,
+        visit: &mut dyn FnMut(u32) -> f32,
+    ) {
+        let index = self.index(classes);
+        let grid = &index.grid;
+        let part = index.class_part[class as usize];
+        let within = radius * radius;
+        let mut found = f32::INFINITY;
+        let mut test = |t: u32| {
+            let (centre, sphere) = grid.sphere[t as usize];
+            let beyond = (centre.distance(q) - sphere).max(0.0);
+            let other = grid.part[t as usize];
+            if other != part && !index.vanished[other as usize] && beyond * beyond <= found.min(within) {
+                found = visit(t);
+            }
+            found
+        };
+        let start = grid.large.iter().fold(f32::INFINITY, |_, &t| test(t));
+        grid.search(q, start, within, &mut test);
     }
 
     /// Whether class `class`'s part, if it vanished, would leave its input points, and those other

@@ -247,6 +247,12 @@ impl CornerLists {
             && self.prev[first as usize] == self.next[first as usize]
     }
 
+    /// Whether `class` has exactly one corner.
+    pub fn has_one(&self, class: u32) -> bool {
+        let first = self.head[class as usize];
+        first != NONE && self.next[first as usize] == NONE
+    }
+
     /// Moves every corner of `from` into `into`'s list, ahead of `into`'s own.
     pub fn splice(&mut self, from: u32, into: u32) {
         let first = self.head[from as usize];

@@ -11,16 +11,22 @@ use glam::{DVec3, Vec3};
 
 impl Engine<'_> {
     /// The plan of `u → v` if it still costs `queued`, the cost its queue entry was keyed by;
-    /// `None` for a collapse no longer valid or priced otherwise. A vanishing part's price rises
-    /// when a part near it vanishes first (`clearance.rs`), with no version of its own changing:
-    /// such an entry goes back in line at its new price.
+    /// `None` for a collapse no longer valid or priced otherwise. A vanishing part's price changes
+    /// with no version of its own changing: a closed part's rises when a part near it vanishes
+    /// first (`clearance.rs`), an open part's moves with the live triangles near it (`plan.rs`).
+    /// Such an entry goes back in line at its new price.
     pub(super) fn current_plan(&mut self, u: u32, v: u32, queued: f32) -> Option<Plan> {
         let plan = self.plan(u, v)?;
         let cost = plan.cost as f32;
         if cost == queued {
             return Some(plan);
         }
-        if cost > queued && self.lone_sheet_corner(u, v).is_some() {
+        if self.vanishing_corner(u, v).is_some() {
+            // Cheaper than queued, it is still the cheapest: everything else in line costs at
+            // least what it was queued at.
+            if cost < queued {
+                return Some(plan);
+            }
             self.push(&plan);
         }
         None
@@ -30,7 +36,7 @@ impl Engine<'_> {
     /// part that vanishes with it leaves the clearance, and its farthest input points to the
     /// nearest parts left (`clearance.rs`).
     pub(super) fn commit(&mut self, plan: &Plan, farthest: u32) {
-        let vanishing = self.lone_sheet_corner(plan.u, plan.v).is_some();
+        let vanishing = self.vanishing_corner(plan.u, plan.v).is_some();
         self.apply(plan);
         self.farthest_input[plan.v as usize] = farthest;
         if vanishing {
@@ -207,6 +213,7 @@ impl Engine<'_> {
         }
         self.on_outline[vi] |= self.on_outline[ui];
         self.alive[ui] = false;
+        self.merged_into[ui] = vi as u32;
         self.version[ui] = self.version[ui].wrapping_add(1);
         self.version[vi] = self.version[vi].wrapping_add(1);
         self.failed_head[vi] = NONE; // every edge of v is queued again below

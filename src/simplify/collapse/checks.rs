@@ -8,7 +8,10 @@
 //! sides), and a lone sheet collapses to nothing. The first step is priced like any other
 //! collapse (the merged quadric holds every plane of the part); the second at least as the part's
 //! area times its squared clearance, its distance to the input's other parts (`plan.rs`,
-//! `clearance.rs`), since nothing of it is left where it was.
+//! `clearance.rs`), since nothing of it is left where it was. An open part goes the same way
+//! from its last triangle, whose collapse would otherwise merge two border lines: priced and
+//! held to the floor by its distance to the live triangles of the parts left, as well as to
+//! their input.
 
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -30,6 +33,9 @@ const MIN_SIN_ANGLE: f64 = 1e-6;
 /// vertex stands for its distance from the surface (see [`Probes`]). Most collapses of a fine
 /// mesh move their ends less than that; at 0.5 CesiumMan's toes went again.
 const SEARCH_FROM: f64 = 0.1;
+/// Points whose distance from the live triangles [`Engine::open_part_vanishes_within_floor`]
+/// keeps to vouch for their neighbours (as `clearance.rs` does for the input's).
+const MAX_VOUCHERS: usize = 32;
 
 impl Engine<'_> {
     /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
@@ -162,6 +168,11 @@ impl Engine<'_> {
                 return None;
             }
         }
+        if count == 1 && self.lone_triangle_corner(u, v).is_some() {
+            // A lone open triangle: its part vanishes, within the floor of what is left or not at all.
+            let distance = if self.open_part_vanishes_within_floor(u) { 0.0 } else { f64::INFINITY };
+            return Some((self.farthest_input[v as usize], distance));
+        }
         if self.kind[u as usize] != Kind::Interior {
             for &x in &opposite[..count] {
                 // Two constraint edges of one triangle would merge into one, changing the
@@ -240,6 +251,33 @@ impl Engine<'_> {
     /// the floor from everything left.
     fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
         self.clearance.leaves_within(&self.classes, sheet[0], self.max_distance as f32)
+    }
+
+    /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
+    /// points within the distance floor of the parts left: of their input, in every pose (as a
+    /// closed part), and of their live triangles, in the simplification pose. The second asks
+    /// more where the parts near it are coarse: on parts.glb a plate priced and floored against
+    /// its neighbours' input went while they were single triangles covering half their plates,
+    /// and left its points 2.9 % of the diagonal from the 114-triangle level (bench/README.md).
+    fn open_part_vanishes_within_floor(&self, class: u32) -> bool {
+        let limit = self.max_distance;
+        // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
+        // point within `limit − d` of it within `limit` too, and searches stop at half the limit
+        // so that most found points vouch for their neighbours.
+        let mut found: Vec<(DVec3, f64)> = Vec::new();
+        self.clearance.points_of_part(&self.classes, class).iter().all(|&vertex| {
+            let q = self.input_positions[vertex as usize].as_dvec3();
+            if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
+                return true;
+            }
+            let Some(squared) = self.squared_to_level(class, q, limit, 0.5 * limit) else {
+                return false;
+            };
+            if found.len() < MAX_VOUCHERS {
+                found.push((q, squared.sqrt()));
+            }
+            true
+        }) && self.clearance.leaves_within(&self.classes, class, limit as f32)
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.

@@ -219,6 +219,8 @@ struct Engine<'a> {
     wedge_attributes: Vec<f32>,
     vertex_id: Vec<u32>,
     alive: Vec<bool>,
+    /// Per class, the class it merged into ([`NONE`] while alive).
+    merged_into: Vec<u32>,
     version: Vec<u32>,
     /// Per class, the head of its list of failed partners in `failed` (NONE: not parked).
     failed_head: Vec<u32>,
@@ -369,6 +371,7 @@ impl<'a> Engine<'a> {
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
             alive: vec![true; class_count],
+            merged_into: vec![NONE; class_count],
             version: vec![0; class_count],
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
