@@ -46,6 +46,15 @@ use std::collections::{HashMap, HashSet};
 /// the clearance; spread over 100 m, 0.46 s): there most tests are exact ones, since the query
 /// lies in many triangles' bounding spheres.
 const MAX_VISITS: usize = 1024;
+/// The poses [`Clearance::leaves_within`] measures a vanishing part in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum PosesChecked {
+    /// The input pose (the simplification pose) and every other pose.
+    All,
+    /// The other poses only: the caller measured the input pose against the level itself.
+    OtherThanInput,
+}
+
 /// Points whose distance [`Clearance::leaves_within`] keeps to vouch for their neighbours: the
 /// test of a point against them is linear in their number.
 const MAX_VOUCHERS: usize = 32;
@@ -73,7 +82,7 @@ pub(super) struct Clearance<'a> {
     /// the same corners. Stale once that part has vanished.
     answers: RefCell<HashMap<u32, (Vec3, Option<Found>)>>,
     /// Parts found not to vanish within a limit (part, the limit's bits).
-    stranded: RefCell<HashSet<(u32, u32)>>,
+    stranded: RefCell<HashSet<(u32, u32, PosesChecked)>>,
 }
 
 /// A search's answer: the squared distance to the nearest triangle found, and its part.
@@ -216,10 +225,16 @@ impl<'a> Clearance<'a> {
     }
 
     /// Whether class `class`'s part, if it vanished, would leave its input points, and those other
-    /// parts left to it, within `limit` of a part left, in the input pose and every other pose
-    /// (each point is looked at only to `limit`, and only until one part is that near). Also
-    /// when no other part is left: there is nothing to measure against.
-    pub(super) fn leaves_within(&self, classes: &PositionClasses, class: u32, limit: f32) -> bool {
+    /// parts left to it, within `limit` of a part left, in the poses `checked` names (each point
+    /// is looked at only to `limit`, and only until one part is that near). Also when no other
+    /// part is left: there is nothing to measure against.
+    pub(super) fn leaves_within(
+        &self,
+        classes: &PositionClasses,
+        class: u32,
+        limit: f32,
+        checked: PosesChecked,
+    ) -> bool {
         let index = self.index(classes);
         let part = index.class_part[class as usize];
         if index.parts_left <= 1 {
@@ -227,12 +242,13 @@ impl<'a> Clearance<'a> {
         }
         // Parts only vanish and points are only left to a part, so one that is not within the
         // limit never will be (the limit is the run's floor): its sheet's other edges ask again.
-        if self.stranded.borrow().contains(&(part, limit.to_bits())) {
+        let key = (part, limit.to_bits(), checked);
+        if self.stranded.borrow().contains(&key) {
             return false;
         }
         let posed = self.posed.get_or_init(|| self.posed_grids(index));
-        let mut poses = std::iter::once((self.positions, &index.grid))
-            .chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
+        let input = std::iter::once((self.positions, &index.grid)).filter(|_| checked == PosesChecked::All);
+        let mut poses = input.chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
         // A point within `d` of a part left puts every point within `limit − d` of it within
         // `limit` too: those need no search. Searches stop at a part within half the limit, so
         // most found points vouch for their neighbours.
@@ -254,7 +270,7 @@ impl<'a> Clearance<'a> {
             })
         });
         if !within {
-            self.stranded.borrow_mut().insert((part, limit.to_bits()));
+            self.stranded.borrow_mut().insert(key);
         }
         within
     }
@@ -744,8 +760,8 @@ mod tests {
         };
         // The farthest a part leaves a point: just within a limit, not within one a bit less.
         let leaves = |clearance: &Clearance, part: u32, distance: f32| {
-            clearance.leaves_within(&classes, class(part), distance)
-                && !clearance.leaves_within(&classes, class(part), distance * 0.999)
+            clearance.leaves_within(&classes, class(part), distance, PosesChecked::All)
+                && !clearance.leaves_within(&classes, class(part), distance * 0.999, PosesChecked::All)
         };
         assert_eq!(squared_at(&clearance, 0), Some(1.0));
         assert!(leaves(&clearance, 0, 1.0));
@@ -762,7 +778,7 @@ mod tests {
         // Then the first goes: the last part is alone, with nothing left to measure against.
         clearance.vanish(&classes, class(0), 10.0);
         assert_eq!(squared_at(&clearance, 2), None);
-        assert!(clearance.leaves_within(&classes, class(2), 0.0));
+        assert!(clearance.leaves_within(&classes, class(2), 0.0, PosesChecked::All));
     }
 
     #[test]

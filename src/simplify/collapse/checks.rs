@@ -16,6 +16,7 @@
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::super::clearance::PosesChecked;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::{Engine, Plan};
 use crate::metrics::closest_point_on_triangle_f64;
@@ -250,13 +251,14 @@ impl Engine<'_> {
     /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
     /// the floor from everything left.
     fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
-        self.clearance.leaves_within(&self.classes, sheet[0], self.max_distance as f32)
+        self.clearance.leaves_within(&self.classes, sheet[0], self.max_distance as f32, PosesChecked::All)
     }
 
     /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
-    /// points within the distance floor of the parts left: of their input, in every pose (as a
-    /// closed part), and of their live triangles, in the simplification pose. The second asks
-    /// more where the parts near it are coarse: on parts.glb a plate priced and floored against
+    /// points within the distance floor of the parts left: of their live triangles in the
+    /// simplification pose, and of their input in every other pose (as a closed part). The
+    /// level, not the input, is what is left in the simplification pose, and it asks more where
+    /// the parts near it are coarse: on parts.glb a plate priced and floored against
     /// its neighbours' input went while they were single triangles covering half their plates,
     /// and left its points 2.9 % of the diagonal from the 114-triangle level (bench/README.md).
     fn open_part_vanishes_within_floor(&self, class: u32) -> bool {
@@ -277,7 +279,7 @@ impl Engine<'_> {
                 found.push((q, squared.sqrt()));
             }
             true
-        }) && self.clearance.leaves_within(&self.classes, class, limit as f32)
+        }) && self.clearance.leaves_within(&self.classes, class, limit as f32, PosesChecked::OtherThanInput)
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.

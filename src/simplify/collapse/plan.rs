@@ -266,15 +266,7 @@ impl Engine<'_> {
         let mut third = NONE;
         let mut count = 0;
         for corner in self.lists.iter(u) {
-            let (n, q) = other_corners(corner);
-            let (a, b) = (self.class_at(n), self.class_at(q));
-            let x = if a == v {
-                b
-            } else if b == v {
-                a
-            } else {
-                return None;
-            };
+            let x = self.third_class(corner, v)?;
             if count == 2 || (count == 1 && x != third) {
                 return None;
             }
@@ -297,17 +289,22 @@ impl Engine<'_> {
         if !self.lists.has_one(u) || !self.lists.has_one(v) {
             return None;
         }
-        let corner = self.lists.iter(u).next()?;
+        let x = self.third_class(self.lists.iter(u).next()?, v)?;
+        self.lists.has_one(x).then_some(x)
+    }
+
+    /// The class of the third corner of `corner`'s triangle when one of its two other corners is
+    /// on class `v`; `None` when neither is.
+    fn third_class(&self, corner: u32, v: u32) -> Option<u32> {
         let (n, q) = other_corners(corner);
         let (a, b) = (self.class_at(n), self.class_at(q));
-        let x = if a == v {
-            b
+        if a == v {
+            Some(b)
         } else if b == v {
-            a
+            Some(a)
         } else {
-            return None;
-        };
-        self.lists.has_one(x).then_some(x)
+            None
+        }
     }
 
     /// The area-weighted error of a part that vanishes when the sheet `u`, `v`, `x` collapses:
@@ -349,7 +346,7 @@ impl Engine<'_> {
     }
 
     /// The class that class `c` has merged into, or `c` while it is alive.
-    pub(super) fn live_class(&self, mut c: u32) -> u32 {
+    fn live_class(&self, mut c: u32) -> u32 {
         while self.merged_into[c as usize] != NONE {
             c = self.merged_into[c as usize];
         }
