@@ -243,6 +243,39 @@ fn parts_reaching_out_do_not_vanish_onto_each_other_past_the_floor() {
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
+fn open_parts_vanish_nearest_the_level_first() {
+    // A flat 6 × 5 plate (down to two triangles without moving a point), a big lone triangle
+    // 0.3 above it and a small one 0.6 above it. Priced by area times squared distance the small
+    // one would go first (0.045 × 0.36 < 0.5 × 0.09); but each would leave its points farther
+    // from the level than anything has been left, so both wait until nothing else can
+    // collapse, and then the nearer goes first: at 3 triangles the small one is left.
+    let mut mesh = grid(6, 5, |_, _| 0.0);
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend([
+        Vec3::new(2.0, 2.0, 0.3),
+        Vec3::new(3.0, 2.0, 0.3),
+        Vec3::new(2.0, 3.0, 0.3),
+        Vec3::new(4.0, 2.0, 0.6),
+        Vec3::new(4.3, 2.0, 0.6),
+        Vec3::new(4.0, 2.3, 0.6),
+    ]);
+    mesh.indices.extend([0, 1, 2, 3, 4, 5].map(|i| base + i));
+    for schedule in [Schedule::Strict, Schedule::Passes] {
+        for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
+            let floor = SimplifyOptions { schedule, max_distance: 1.0, ..options(mode, 3) };
+            let pm = mesh.simplify(&floor);
+            let k = pm.collapse_count();
+            assert_eq!(pm.triangle_count_after(k), 3, "{mode:?} {schedule:?}");
+            let zs: Vec<f32> = pm.indices_at(k).iter().map(|&v| pm.positions[v as usize].z).collect();
+            let small = zs.iter().filter(|&&z| z == 0.6).count();
+            assert_eq!(small, 3, "{mode:?} {schedule:?}: the small, far triangle is left: {zs:?}");
+            check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), false);
+        }
+    }
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
 fn single_triangle_is_left_alone() {
     let mesh =
         Mesh { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], indices: vec![0, 1, 2], ..Mesh::default() };

@@ -32,15 +32,57 @@ impl Engine<'_> {
         None
     }
 
-    /// Applies a checked collapse and lets the merged vertex track input vertex `farthest`; a
-    /// part that vanishes with it leaves the clearance, and its farthest input points to the
-    /// nearest parts left (`clearance.rs`).
-    pub(super) fn commit(&mut self, plan: &Plan, farthest: u32) {
+    /// Applies a checked collapse that leaves input vertex `farthest` at `distance` from the
+    /// level, the merged vertex tracking it; a part that vanishes with it leaves the clearance,
+    /// and its farthest input points to the nearest parts left (`clearance.rs`).
+    pub(super) fn commit(&mut self, plan: &Plan, farthest: u32, distance: f64) {
         let vanishing = self.vanishing_corner(plan.u, plan.v).is_some();
         self.apply(plan);
         self.farthest_input[plan.v as usize] = farthest;
         if vanishing {
             self.clearance.vanish(&self.classes, plan.u, self.max_distance as f32);
+        }
+        self.reach(distance);
+    }
+
+    /// Records that the level has left an input point `distance` from it: the open parts
+    /// waiting for the level to reach that far are priced again.
+    fn reach(&mut self, distance: f64) {
+        if distance > self.reached_distance {
+            self.reached_distance = distance;
+            self.release_waiting(distance);
+        }
+    }
+
+    /// When nothing else can collapse: lets the level reach the nearest waiting open part, so
+    /// that parts still vanish, nearest first, where nothing else moves (a model of flat plates
+    /// alone). Whether one was waiting.
+    pub(super) fn reach_nearest_waiting(&mut self) -> bool {
+        let alive = &self.alive;
+        let nearest = {
+            let mut waiting = self.waiting_vanishings.borrow_mut();
+            waiting.retain(|&(_, a, b)| alive[a as usize] && alive[b as usize]);
+            waiting.iter().map(|&(reach, ..)| reach).min_by(f64::total_cmp)
+        };
+        let Some(nearest) = nearest else {
+            return false;
+        };
+        self.reached_distance = self.reached_distance.max(nearest);
+        self.release_waiting(nearest);
+        true
+    }
+
+    /// Prices again the waiting open parts whose points lie within `distance` of the level.
+    fn release_waiting(&mut self, distance: f64) {
+        // Taken out first: pricing one again may put it back (its points moved farther from the
+        // level since it began waiting).
+        let (due, still): (Vec<_>, Vec<_>) =
+            self.waiting_vanishings.take().into_iter().partition(|&(reach, ..)| reach <= distance);
+        self.waiting_vanishings.replace(still);
+        for (_, a, b) in due {
+            if self.alive[a as usize] && self.alive[b as usize] {
+                self.requeue(a, b);
+            }
         }
     }
 

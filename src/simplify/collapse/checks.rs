@@ -170,9 +170,12 @@ impl Engine<'_> {
             }
         }
         if count == 1 && self.lone_triangle_corner(u, v).is_some() {
-            // A lone open triangle: its part vanishes, within the floor of what is left or not at all.
-            let distance = if self.open_part_vanishes_within_floor(u) { 0.0 } else { f64::INFINITY };
-            return Some((self.farthest_input[v as usize], distance));
+            // A lone open triangle: its part vanishes no farther from the level than the level
+            // has reached (its price, `plan.rs`), and within the floor in the other poses.
+            let reached = self.reached_distance;
+            let within =
+                self.open_part_within(u, reached).is_ok() && self.vanishes_within_floor_in_other_poses(u);
+            return Some((self.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
         }
         if self.kind[u as usize] != Kind::Interior {
             for &x in &opposite[..count] {
@@ -255,31 +258,41 @@ impl Engine<'_> {
     }
 
     /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
-    /// points within the distance floor of the parts left: of their live triangles in the
-    /// simplification pose, and of their input in every other pose (as a closed part). The
-    /// level, not the input, is what is left in the simplification pose, and it asks more where
-    /// the parts near it are coarse: on parts.glb a plate priced and floored against
-    /// its neighbours' input went while they were single triangles covering half their plates,
-    /// and left its points 2.9 % of the diagonal from the 114-triangle level (bench/README.md).
-    fn open_part_vanishes_within_floor(&self, class: u32) -> bool {
-        let limit = self.max_distance;
+    /// points within the distance floor of the other parts' input in the poses other than the
+    /// simplification pose (as a closed part). In the simplification pose the level is what is
+    /// left, and the part is measured against it ([`Engine::open_part_within`]).
+    fn vanishes_within_floor_in_other_poses(&self, class: u32) -> bool {
+        self.clearance.leaves_within(
+            &self.classes,
+            class,
+            self.max_distance as f32,
+            PosesChecked::OtherThanInput,
+        )
+    }
+
+    /// Whether every input point of class `class`'s open part (its own and those left to it) lies
+    /// within `bound` of the live triangles of the other parts, in the simplification pose:
+    /// `Ok`, or `Err` with the distance of the first point found farther (a lower bound of the
+    /// farthest one's), `None` when that one is beyond the floor.
+    pub(super) fn open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
         // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
-        // point within `limit − d` of it within `limit` too, and searches stop at half the limit
-        // so that most found points vouch for their neighbours.
+        // point within `bound − d` of it within `bound` too, and a search may stop at any
+        // triangle within `bound`.
         let mut found: Vec<(DVec3, f64)> = Vec::new();
-        self.clearance.points_of_part(&self.classes, class).iter().all(|&vertex| {
+        for vertex in self.clearance.points_of_part(&self.classes, class) {
             let q = self.input_positions[vertex as usize].as_dvec3();
-            if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
-                return true;
+            if found.iter().any(|&(p, d)| d + p.distance(q) <= bound) {
+                continue;
             }
-            let Some(squared) = self.squared_to_level(class, q, limit, 0.5 * limit) else {
-                return false;
-            };
+            let distance = self.squared_to_level(class, q, self.max_distance, bound).ok_or(None)?.sqrt();
+            if distance > bound {
+                return Err(Some(distance));
+            }
             if found.len() < MAX_VOUCHERS {
-                found.push((q, squared.sqrt()));
+                found.push((q, distance));
             }
-            true
-        }) && self.clearance.leaves_within(&self.classes, class, limit as f32, PosesChecked::OtherThanInput)
+        }
+        Ok(())
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.

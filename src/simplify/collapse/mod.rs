@@ -77,6 +77,7 @@ use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
 use glam::{DVec3, Vec3};
+use std::cell::RefCell;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Placement {
@@ -270,6 +271,14 @@ struct Engine<'a> {
     inverse_mean_pair_area: f64,
     /// How far the input's other parts are, for pricing a part that vanishes.
     clearance: Clearance<'a>,
+    /// The farthest a committed collapse has left an input point from the level so far, in the
+    /// simplification pose (an upper bound, see `Probes` in `checks.rs`), or the distance the
+    /// level was let reach when nothing else could collapse ([`Engine::reach_nearest_waiting`]).
+    reached_distance: f64,
+    /// Open parts whose vanishing would leave a point farther than `reached_distance`: (that
+    /// distance, the edge of their last triangle), priced again when the level reaches it
+    /// ([`Engine::reach`]).
+    waiting_vanishings: RefCell<Vec<(f64, u32, u32)>>,
 }
 
 impl<'a> Engine<'a> {
@@ -372,6 +381,8 @@ impl<'a> Engine<'a> {
             vertex_id: (0..n as u32).collect(),
             alive: vec![true; class_count],
             merged_into: vec![NONE; class_count],
+            reached_distance: 0.0,
+            waiting_vanishings: Default::default(),
             version: vec![0; class_count],
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),

@@ -46,6 +46,10 @@ impl Engine<'_> {
         loop {
             self.pick();
             if self.candidates.is_empty() {
+                if self.reach_nearest_waiting() {
+                    self.update();
+                    continue;
+                }
                 return self.exhausted();
             }
             let goal = self.rank(running_max);
@@ -146,7 +150,7 @@ impl Engine<'_> {
                 self.over_floor = true;
                 continue;
             }
-            self.commit(&plan, farthest);
+            self.commit(&plan, farthest, distance);
             *running_max = running_max.max(entry.cost());
         }
         report(self.live_triangles);

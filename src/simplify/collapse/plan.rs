@@ -310,11 +310,8 @@ impl Engine<'_> {
     /// The area-weighted error of a part that vanishes when the sheet `u`, `v`, `x` collapses:
     /// its area (every surface merged into the sheet) times the mean squared clearance of the
     /// sheet's corners, their distance to the input's other parts (`clearance.rs`). An open
-    /// part's last triangle (`u`, `v`, `x` on it alone) is priced by its corners' distance to the
-    /// live triangles of the parts left instead ([`Engine::squared_to_level`]), infinite beyond
-    /// the floor: measured against the input, a plate of parts.glb went while its neighbours were
-    /// single triangles, 2.9 % of the diagonal from them (bench/README.md). The plane
-    /// quadric alone cannot see a part go: a sheet lies in its own planes, and a finger's side
+    /// part's last triangle (`u`, `v`, `x` on it alone) is priced otherwise, against the level
+    /// ([`Engine::open_part_vanishing_error`]). The plane quadric alone cannot see a part go: a sheet lies in its own planes, and a finger's side
     /// planes pass a point on its axis at half its thickness however long it is, so fingers
     /// vanished at robot.glb's 656-triangle level (4.1 % of the diagonal, Hausdorff). A part
     /// alone in its mesh is priced by the sheet's own spread instead (the mean squared distance
@@ -323,13 +320,7 @@ impl Engine<'_> {
         let corners = [u, v, x].map(|c| self.position[c as usize]);
         let area: f64 = [u, v, x].iter().map(|&c| self.geometric[c as usize].weight).sum();
         if self.lists.has_one(u) {
-            // An open part: its last triangle's corners against the live triangles near them.
-            let squared: Option<f64> = [u, v, x]
-                .iter()
-                .zip(corners)
-                .map(|(&c, at)| self.squared_to_level(c, at, self.max_distance, 0.0))
-                .sum();
-            return squared.map_or(f64::INFINITY, |sum| area * sum / 3.0);
+            return self.open_part_vanishing_error(u, v);
         }
         let clearance: Option<f64> = [u, v, x]
             .iter()
@@ -343,6 +334,32 @@ impl Engine<'_> {
             corners.iter().map(|&c| c.distance_squared(centroid)).sum::<f64>() / 3.0
         });
         area * mean_squared
+    }
+
+    /// The error of an open part vanishing with its last triangle, `u`–`v`'s collapse: none
+    /// beyond its plane quadric's once every point of the part lies within the distance the
+    /// level has already left some input point from it ([`Engine::open_part_within`]), so that
+    /// its vanishing raises no distance the level has not reached. Until then the part waits
+    /// for the level to reach as far as its farthest point found ([`Engine::reach`] prices it
+    /// again), and its collapse is not queued; beyond the floor it never goes. Priced instead by
+    /// its area times its corners' mean squared distance from the level, at any reach, parts
+    /// went later and kept triangles a bigger part's collapse would have bought more with; let
+    /// go at a discount at any reach, one plate of parts.glb left its points farther from the
+    /// 114-triangle level than anything else (bench/README.md, 2026-11-27, last run).
+    fn open_part_vanishing_error(&self, u: u32, v: u32) -> f64 {
+        match self.open_part_within(u, self.reached_distance) {
+            Ok(()) => 0.0,
+            Err(Some(farther)) => {
+                let edge = (u.min(v), u.max(v));
+                let mut waiting = self.waiting_vanishings.borrow_mut();
+                match waiting.iter_mut().find(|w| (w.1, w.2) == edge) {
+                    Some(known) => known.0 = farther,
+                    None => waiting.push((farther, edge.0, edge.1)),
+                }
+                f64::INFINITY
+            }
+            Err(None) => f64::INFINITY,
+        }
     }
 
     /// The class that class `c` has merged into, or `c` while it is alive.
@@ -384,6 +401,6 @@ impl Engine<'_> {
                 best as f32
             }
         });
-        (best <= radius * radius).then_some(best)
+        (best.is_finite() && best <= radius * radius).then_some(best)
     }
 }

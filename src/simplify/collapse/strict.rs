@@ -38,6 +38,9 @@ impl Engine<'_> {
                 self.purged_length = self.queue.len();
             }
             let Some(entry) = self.queue.pop_kept(current) else {
+                if self.reach_nearest_waiting() {
+                    continue;
+                }
                 return self.exhausted();
             };
             let (u, v) = (entry.u(), entry.v);
@@ -69,7 +72,7 @@ impl Engine<'_> {
                 self.over_floor = true;
                 continue;
             }
-            self.commit(&plan, farthest);
+            self.commit(&plan, farthest, distance);
         }
     }
 }
