@@ -37,13 +37,15 @@ impl Character {
     }
 
     /// Loads a JSON glTF (`.gltf`); `resolve(uri)` returns the bytes of an external buffer or
-    /// image as a `Uint8Array`, or `null`/`undefined` when it has none. `data:` URIs need no
-    /// resolver.
+    /// image as a `Uint8Array`, or `null`/`undefined` when it has none. It is asked for the URI's
+    /// path (percent-decoded), and when it has none, for the path's last segment, the name a file
+    /// dropped with the `.gltf` keeps (`textures/skin.png`, then `skin.png`). `data:` URIs need
+    /// no resolver.
     ///
     /// Throws an `Error` naming the problem (including a URI the resolver could not supply).
     #[wasm_bindgen(js_name = fromGltf)]
     pub fn from_gltf(json: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
-        let mut resolver = resolver_of(resolve);
+        let mut resolver = crate::js_options::resolver(Some(resolve));
         let inner = import::from_gltf(json, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
@@ -55,7 +57,7 @@ impl Character {
     /// Throws an `Error` naming the problem.
     #[wasm_bindgen(js_name = fromBytes)]
     pub fn from_bytes(bytes: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
-        let mut resolver = resolver_of(resolve);
+        let mut resolver = crate::js_options::resolver(Some(resolve));
         let inner = import::from_bytes(bytes, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
@@ -475,17 +477,6 @@ fn now_ms() -> f64 {
 
 fn flatten(v: &[glam::Vec3]) -> Vec<f32> {
     v.iter().flat_map(|p| p.to_array()).collect()
-}
-
-/// A Rust resolver over a JS `resolve(uri) → Uint8Array | null | undefined`.
-fn resolver_of(resolve: &js_sys::Function) -> impl FnMut(&str) -> Option<Vec<u8>> + '_ {
-    |uri: &str| {
-        let value = resolve.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
-        if value.is_null() || value.is_undefined() {
-            return None;
-        }
-        Some(js_sys::Uint8Array::new(&value).to_vec())
-    }
 }
 
 /// Symmetric surface distance between two triangle meshes (xyz positions, triangle indices),

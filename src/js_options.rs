@@ -14,6 +14,18 @@ pub fn get(obj: &JsValue, key: &str) -> Option<JsValue> {
     (!value.is_undefined() && !value.is_null()).then_some(value)
 }
 
+/// A Rust resolver over a JS `resolve(name) → Uint8Array | ArrayBuffer | null` (none when
+/// `resolve` is `None`), asking it for a URI's path and then for its last segment
+/// ([`crate::import::by_path_or_name`]): a `.gltf`'s files dropped with it are found by name.
+pub fn resolver(resolve: Option<&js_sys::Function>) -> impl FnMut(&str) -> Option<Vec<u8>> + '_ {
+    crate::import::by_path_or_name(move |name: &str| {
+        let value = resolve?.call1(&JsValue::NULL, &JsValue::from_str(name)).ok()?;
+        let bytes =
+            value.is_instance_of::<js_sys::Uint8Array>() || value.is_instance_of::<js_sys::ArrayBuffer>();
+        bytes.then(|| js_sys::Uint8Array::new(&value).to_vec())
+    })
+}
+
 /// `obj[key]` as a string, when it is one.
 pub fn get_string(obj: &JsValue, key: &str) -> Option<String> {
     get(obj, key)?.as_string()

@@ -260,8 +260,8 @@ export class ClodViewerElement extends HTMLElement {
 export function loadBuild(backend: 'webgpu' | 'webgl2'): Promise<{ module: unknown; url: string }>;
 /** Whether this browser hands out a WebGPU adapter. */
 export function webgpuWorks(): Promise<boolean>;
-/** A `.gltf` resolver over dropped files: the bytes of a URI's file, or null. */
-export function resolverFor(resources: Map<string, Uint8Array> | undefined): (uri: string) => Uint8Array | null;
+/** A `.gltf` resolver over dropped files, by name (the wasm side asks for a URI's path, then its last segment). */
+export function resolverFor(resources: Map<string, Uint8Array> | undefined): (name: string) => Uint8Array | null;
 /** `pop blend morph` (one to three, any of `pop|popping`, `blend|alpha`, `morph|geomorph`) as methods. */
 export function parseModes(text: string): Method[];
 

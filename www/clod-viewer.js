@@ -178,9 +178,12 @@ async function cachePut(key, value) {
   } catch { /* private mode or quota: the next visit builds again */ }
 }
 
-/** A `.gltf`'s resolver: the URI as written, else its last path segment (files dropped together). */
+/**
+ * A `.gltf`'s resolver over the files dropped with it, by name. The wasm side asks for a URI's
+ * path and then its last segment (`textures/skin.png`, then `skin.png`).
+ */
 export function resolverFor(resources) {
-  return (uri) => resources?.get(uri) ?? resources?.get(decodeURIComponent(uri.split('/').pop())) ?? null;
+  return (name) => resources?.get(name) ?? null;
 }
 
 // --- the element ---------------------------------------------------------------------------------

@@ -17,9 +17,9 @@ self.onmessage = async ({ data: { id, moduleUrl, name, bytes, resources } }) => 
   let character = null;
   try {
     const { Character } = await load(moduleUrl);
-    // A .gltf's files were dropped with it: by the URI as written, else by its last path segment
-    // (as `resolverFor` in clod-viewer.js, which a worker cannot import).
-    const resolve = (uri) => resources?.get(uri) ?? resources?.get(decodeURIComponent(uri.split('/').pop())) ?? null;
+    // A .gltf's files were dropped with it: by name (the wasm side asks for a URI's path, then
+    // its last segment).
+    const resolve = (name) => resources?.get(name) ?? null;
     character = Character.fromBytes(bytes, resolve);
     const started = performance.now();
     const clod = character.buildClodBytes({}, (fraction) => self.postMessage({ id, type: 'progress', fraction }));

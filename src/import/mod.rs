@@ -171,6 +171,21 @@ pub fn from_gltf(
     import(json, None, resolve)
 }
 
+/// A resolver over files dropped or picked together, as a browser hands them over (names, no
+/// folders): asks `lookup` for a URI's path as [`from_gltf`] passes it (percent-decoded), and
+/// when it has none, for the path's last segment, the name a file keeps when dropped
+/// (`textures/skin.png` → `skin.png`; `\` separates segments too, as some exporters write).
+pub fn by_path_or_name(
+    mut lookup: impl FnMut(&str) -> Option<Vec<u8>>,
+) -> impl FnMut(&str) -> Option<Vec<u8>> {
+    move |path| {
+        lookup(path).or_else(|| {
+            let name = path.rsplit(['/', '\\']).next().filter(|name| !name.is_empty() && *name != path)?;
+            lookup(name)
+        })
+    }
+}
+
 /// Imports either form, telling GLB (magic `glTF`) from JSON by the first bytes.
 ///
 /// # Errors
@@ -332,4 +347,37 @@ fn import(
     let clips = clips::read_clips(src, &slots, &morph.by_node, &mut warnings)?;
     let materials = material::read_materials(src, resolve, &mut warnings)?;
     Ok(Character { mesh, skeleton, clips, materials, morph_targets: morph.targets, warnings })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// `by_path_or_name` over files named `names`, recording what it was asked.
+    fn ask(path: &str, names: &[&str]) -> (Option<Vec<u8>>, Vec<String>) {
+        let mut asked = Vec::new();
+        let found = by_path_or_name(|name: &str| {
+            asked.push(name.to_string());
+            names.iter().position(|&n| n == name).map(|i| vec![i as u8])
+        })(path);
+        (found, asked)
+    }
+
+    #[test]
+    fn a_dropped_file_is_found_by_its_path_then_its_name() {
+        assert_eq!(
+            ask("textures/skin.png", &["textures/skin.png"]),
+            (Some(vec![0]), vec!["textures/skin.png".into()])
+        );
+        assert_eq!(
+            ask("textures/skin.png", &["body.bin", "skin.png"]),
+            (Some(vec![1]), vec!["textures/skin.png".into(), "skin.png".into()])
+        );
+        assert_eq!(ask(r"maps\a b.png", &["a b.png"]).0, Some(vec![0]));
+        // A bare name is asked once; a path ending in a separator has no name to ask for.
+        assert_eq!(ask("skin.png", &[]), (None, vec!["skin.png".into()]));
+        assert_eq!(ask("textures/", &[]), (None, vec!["textures/".into()]));
+    }
 }

@@ -138,11 +138,7 @@ impl Viewer {
         };
         let resolve =
             js_options::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
-        let mut resolver = |uri: &str| -> Option<Vec<u8>> {
-            let value = resolve.as_ref()?.call1(&JsValue::NULL, &JsValue::from_str(uri)).ok()?;
-            let array = value.dyn_into::<js_sys::Uint8Array>().ok()?;
-            Some(array.to_vec())
-        };
+        let mut resolver = js_options::resolver(resolve.as_ref());
         let character = import::from_bytes(&bytes, &mut resolver).map_err(js_error)?;
         drop(bytes);
         next_task().await;

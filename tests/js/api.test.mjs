@@ -114,6 +114,17 @@ test('a .gltf with an external buffer loads through the resolver', (t) => {
     either.free();
   }
   assert.throws(() => api.Character.fromBytes(text, () => undefined), /external data\.bin/);
+  // A URI with a folder: the resolver is asked for its path, then for the file's name (the files
+  // of a .gltf dropped together have names, no folders).
+  json.buffers[0].uri = 'buffers/external%20data.bin';
+  const nested = new TextEncoder().encode(JSON.stringify(json));
+  asked.length = 0;
+  const byName = api.Character.fromGltf(nested, (uri) => (asked.push(uri), uri === 'external data.bin' ? bin : null));
+  assert.deepEqual(asked, ['buffers/external data.bin', 'external data.bin']);
+  assert.deepEqual([...byName.bindPositions()], [...character.bindPositions()]);
+  byName.free();
+  assert.throws(() => api.Character.fromGltf(nested, () => null), /buffers\/external data\.bin/);
+  json.buffers[0].uri = 'external%20data.bin';
 
   // Without texture coordinates, uvs() is undefined, as it is for texture coordinates no texture
   // samples (RiggedSimple's); the normals are the same.
