@@ -141,6 +141,17 @@ fn a_part_beside_another_vanishes_before_one_standing_alone() {
     }
 }
 
+/// A flat 6 × 5 plate at z = 0 (60 triangles) and `triangles`, each a lone open part.
+fn plate_with_triangles(triangles: &[[Vec3; 3]]) -> Mesh {
+    let mut mesh = grid(6, 5, |_, _| 0.0);
+    for triangle in triangles {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(triangle);
+        mesh.indices.extend([base, base + 1, base + 2]);
+    }
+    mesh
+}
+
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn an_open_part_vanishes_onto_a_surface_within_the_floor_and_not_beyond() {
@@ -148,17 +159,10 @@ fn an_open_part_vanishes_onto_a_surface_within_the_floor_and_not_beyond() {
     // above it and another 14 beyond its edge, both open parts. Under a floor of 1 the near one
     // goes (its points stay 0.5 from the plate's live triangles), the far one stays: 60 + 2
     // triangles become 3.
-    let mut mesh = grid(6, 5, |_, _| 0.0);
-    let base = mesh.positions.len() as u32;
-    mesh.positions.extend([
-        Vec3::new(2.0, 2.0, 0.5),
-        Vec3::new(3.0, 2.0, 0.5),
-        Vec3::new(2.0, 3.0, 0.5),
-        Vec3::new(20.0, 0.0, 0.0),
-        Vec3::new(21.0, 0.0, 0.0),
-        Vec3::new(20.0, 1.0, 0.0),
+    let mesh = plate_with_triangles(&[
+        [Vec3::new(2.0, 2.0, 0.5), Vec3::new(3.0, 2.0, 0.5), Vec3::new(2.0, 3.0, 0.5)],
+        [Vec3::new(20.0, 0.0, 0.0), Vec3::new(21.0, 0.0, 0.0), Vec3::new(20.0, 1.0, 0.0)],
     ]);
-    mesh.indices.extend([0, 1, 2, 3, 4, 5].map(|i| base + i));
     let runs = [
         (CollapseMode::Full, Schedule::Strict),
         (CollapseMode::HalfEdge, Schedule::Strict),
@@ -249,17 +253,10 @@ fn open_parts_vanish_nearest_the_level_first() {
     // one would go first (0.045 × 0.36 < 0.5 × 0.09); but each would leave its points farther
     // from the level than anything has been left, so both wait until nothing else can
     // collapse, and then the nearer goes first: at 3 triangles the small one is left.
-    let mut mesh = grid(6, 5, |_, _| 0.0);
-    let base = mesh.positions.len() as u32;
-    mesh.positions.extend([
-        Vec3::new(2.0, 2.0, 0.3),
-        Vec3::new(3.0, 2.0, 0.3),
-        Vec3::new(2.0, 3.0, 0.3),
-        Vec3::new(4.0, 2.0, 0.6),
-        Vec3::new(4.3, 2.0, 0.6),
-        Vec3::new(4.0, 2.3, 0.6),
+    let mesh = plate_with_triangles(&[
+        [Vec3::new(2.0, 2.0, 0.3), Vec3::new(3.0, 2.0, 0.3), Vec3::new(2.0, 3.0, 0.3)],
+        [Vec3::new(4.0, 2.0, 0.6), Vec3::new(4.3, 2.0, 0.6), Vec3::new(4.0, 2.3, 0.6)],
     ]);
-    mesh.indices.extend([0, 1, 2, 3, 4, 5].map(|i| base + i));
     for schedule in [Schedule::Strict, Schedule::Passes] {
         for mode in [CollapseMode::Full, CollapseMode::HalfEdge] {
             let floor = SimplifyOptions { schedule, max_distance: 1.0, ..options(mode, 3) };
