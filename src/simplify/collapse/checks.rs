@@ -275,6 +275,19 @@ impl Engine<'_> {
     /// `Ok`, or `Err` with the distance of the first point found farther (a lower bound of the
     /// farthest one's), `None` when that one is beyond the floor.
     pub(super) fn open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
+        // A vanishing is priced and then checked with nothing changed in between: ask once.
+        let key = (class, self.log.steps.len(), bound.to_bits());
+        if let Some((known, answer)) = self.last_open_part_within.get() {
+            if known == key {
+                return answer;
+            }
+        }
+        let answer = self.search_open_part_within(class, bound);
+        self.last_open_part_within.set(Some((key, answer)));
+        answer
+    }
+
+    fn search_open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
         // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
         // point within `bound − d` of it within `bound` too, and a search may stop at any
         // triangle within `bound`.

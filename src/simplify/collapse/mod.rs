@@ -77,7 +77,7 @@ use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
 use glam::{DVec3, Vec3};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Placement {
@@ -279,7 +279,13 @@ struct Engine<'a> {
     /// distance, the edge of their last triangle), priced again when the level reaches it
     /// ([`Engine::reach`]).
     waiting_vanishings: RefCell<Vec<(f64, u32, u32)>>,
+    /// The last [`Engine::open_part_within`] asked: (class, steps logged, bound's bits) and
+    /// its answer.
+    last_open_part_within: Cell<Option<OpenPartWithin>>,
 }
+
+/// A question [`Engine::open_part_within`] answered, and its answer.
+type OpenPartWithin = ((u32, usize, u64), Result<(), Option<f64>>);
 
 impl<'a> Engine<'a> {
     /// The order key of a collapse whose quadric error is `error` over a pair of area `weight`
@@ -383,6 +389,7 @@ impl<'a> Engine<'a> {
             merged_into: vec![NONE; class_count],
             reached_distance: 0.0,
             waiting_vanishings: Default::default(),
+            last_open_part_within: Cell::new(None),
             version: vec![0; class_count],
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
