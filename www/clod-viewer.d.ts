@@ -204,6 +204,14 @@ export interface ModelSource {
   resources?: Map<string, Uint8Array>;
 }
 
+/**
+ * What an `error` event is about: `fetch` (the model could not be downloaded), `model` (the file
+ * cannot be shown), `levels` (the LOD levels could not be built; the full mesh keeps playing),
+ * `no-gpu` (neither WebGPU nor WebGL2), `wasm` (the viewer's own files did not load), `attribute`
+ * (an attribute value the viewer does not take), `render` (the GPU reported an error while drawing).
+ */
+export type ErrorCode = 'fetch' | 'model' | 'levels' | 'no-gpu' | 'wasm' | 'attribute' | 'render';
+
 /** The element's own events (it fires the usual DOM events too). */
 export interface ClodViewerEventMap {
   progress: CustomEvent<{ phase: 'fetch' | 'gpu' | 'build' | 'ready'; fraction: number }>;
@@ -211,7 +219,8 @@ export interface ClodViewerEventMap {
   load: CustomEvent<ViewerState>;
   /** The levels are attached (`lodFrom` 'build' or 'cache'). */
   lod: CustomEvent<ViewerState>;
-  error: CustomEvent<{ message: string }>;
+  /** A real failure, once each: `code` says which kind (see `ErrorCode`), `message` what happened. */
+  error: CustomEvent<{ code: ErrorCode; message: string }>;
   /** The live meter measured a transition. */
   meter: CustomEvent<{ popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null }>;
   camerachange: CustomEvent<undefined>;
@@ -256,6 +265,8 @@ export class ClodViewerElement extends HTMLElement {
   addEventListener(type: string, listener: EventListenerOrEventListenerObject, options?: boolean | AddEventListenerOptions): void;
 }
 
+/** Each `error` event's `code`, with what it means to a page. */
+export const ERROR_CODES: Record<ErrorCode, string>;
 /** Loads (once per page) the wasm build of a backend. */
 export function loadBuild(backend: 'webgpu' | 'webgl2'): Promise<{ module: unknown; url: string }>;
 /** Whether this browser hands out a WebGPU adapter. */

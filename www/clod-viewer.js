@@ -20,7 +20,8 @@
 // `fetch`, `gpu`, `build`, `ready`), `load` (detail: the viewer's state; the full mesh is drawn
 // from then on), `lod` (detail: the state once the levels are attached, `lodFrom` "build" or
 // "cache"; the chain bytes are kept in IndexedDB, keyed by the file's SHA-256), `error` (detail
-// `{ message }`), `meter` (detail: `meter()`, when the live meter has measured a transition).
+// `{ code, message }`, once per failure; `code` is one of ERROR_CODES), `meter` (detail: `meter()`,
+// when the live meter has measured a transition).
 // Methods: play(), pause(), setTime(seconds), setState({...}), state(), meter(), meterHistory(),
 // load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i).
 
@@ -35,6 +36,24 @@ const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' 
 // (the backends' own reports go to the console).
 const NO_GPU_MESSAGE = 'This browser could not start WebGPU or WebGL2 for the viewer. Turn on hardware ' +
   'acceleration in the browser settings, or open the page in a current Chrome, Edge, Firefox or Safari.';
+
+// The `code` of every `error` event, and what it means to a page (the README lists them too).
+export const ERROR_CODES = {
+  fetch: 'the model could not be downloaded (HTTP status or network)',
+  model: 'the file cannot be shown: the importer refused it, a .gltf resource is missing, or it exceeds this GPU\'s limits',
+  levels: 'the LOD levels could not be built or attached; the full mesh keeps playing',
+  'no-gpu': 'the browser gives the canvas neither WebGPU nor WebGL2',
+  wasm: 'the viewer\'s own files (pkg/, pkg-webgl/) could not be loaded',
+  attribute: 'an attribute holds a value the viewer does not take',
+  render: 'the GPU reported an error while drawing',
+};
+
+/** `error` with `code` set (kept when it already has one of ERROR_CODES). */
+function coded(error, code) {
+  const e = error instanceof Error ? error : new Error(String(error));
+  if (!(e.code in ERROR_CODES)) e.code = code;
+  return e;
+}
 
 // Where each phase's progress lands on the overall 0..1 bar, in the order they run: the model is
 // drawn at full detail after `gpu` (the `load` event), and the LOD build fills the rest (the
@@ -245,6 +264,8 @@ export class ClodViewerElement extends HTMLElement {
   #meterSeen = 0;
   #loadId = 0;
   #ignored = [];
+  #errorsSeen = 0; // renderer errors of the current viewer already reported
+  #broken = false; // the current viewer threw while drawing: no more frames until another loads
 
   connectedCallback() {
     if (!this.#canvas) this.#buildDom();
@@ -273,7 +294,7 @@ export class ClodViewerElement extends HTMLElement {
     try {
       this.setState(this.#attributeState(name));
     } catch (e) {
-      this.#fail(e);
+      this.#fail(coded(e, 'attribute'));
     }
   }
 
@@ -297,7 +318,7 @@ export class ClodViewerElement extends HTMLElement {
    * viewer, the last state read.
    */
   state() {
-    this.#lastState = this.#requireViewer().state() ?? this.#lastState;
+    this.#lastState = this.#requireViewer().state();
     return this.#lastState;
   }
   /**
@@ -427,13 +448,13 @@ export class ClodViewerElement extends HTMLElement {
       } catch (e) {
         // WebGPU has an adapter but no usable device (or the surface fails): the WebGL2 build.
         // The LOD bytes are the same whichever build made them.
-        if (!e.noGpu) throw e;
-        if (!fallbacks.length) throw new Error(NO_GPU_MESSAGE);
-        const fallback = await loadBuild(fallbacks[0]);
+        if (e.code !== 'no-gpu') throw e;
+        if (!fallbacks.length) throw coded(new Error(NO_GPU_MESSAGE), 'no-gpu');
+        const fallback = await loadBuild(fallbacks[0]).catch((e2) => { throw coded(e2, 'wasm'); });
         try {
           return attach(await this.#createViewer(fallback.module, fallbacks[0], source, later, id));
         } catch (e2) {
-          throw e2.noGpu ? new Error(NO_GPU_MESSAGE) : e2;
+          throw e2.code === 'no-gpu' ? coded(new Error(NO_GPU_MESSAGE), 'no-gpu') : e2;
         }
       }
     })();
@@ -450,8 +471,9 @@ export class ClodViewerElement extends HTMLElement {
       if (this.#pending === pending) this.#pending = null;
       if (this.#loadId !== id) throw Object.assign(e instanceof Error ? e : new Error(String(e)), { superseded: true }); // the newer load reports
       this.#bar.hidden = true;
-      this.#fail(e);
-      throw e;
+      const error = coded(e, 'model');
+      this.#fail(error);
+      throw error;
     });
     if (this.#visible) showGpu();
     if (!replace) done.catch(() => {});
@@ -482,7 +504,7 @@ export class ClodViewerElement extends HTMLElement {
     } catch (e) {
       if (!current()) return;
       this.#bar.hidden = true;
-      this.#fail(new Error(`${source.name}: the levels could not be built (${e.message ?? e}); showing the full mesh`));
+      this.#fail(coded(new Error(`${source.name}: the levels could not be built (${e.message ?? e}); showing the full mesh`), 'levels'));
     }
   }
 
@@ -502,7 +524,7 @@ export class ClodViewerElement extends HTMLElement {
 
   async #chooseBuild() {
     const forced = this.getAttribute('backend');
-    if (forced && forced !== 'webgpu' && forced !== 'webgl2') throw new Error(`backend="${forced}": use webgpu or webgl2`);
+    if (forced && forced !== 'webgpu' && forced !== 'webgl2') throw coded(new Error(`backend="${forced}": use webgpu or webgl2`), 'attribute');
     const order = forced ? [forced] : (await webgpuWorks()) ? ['webgpu', 'webgl2'] : ['webgl2'];
     const failures = [];
     for (const backend of order) {
@@ -512,28 +534,34 @@ export class ClodViewerElement extends HTMLElement {
         failures.push(`${backend}: ${e.message ?? e}`);
       }
     }
-    throw new Error(`could not load the viewer's wasm (${failures.join('; ')})`);
+    throw coded(new Error(`could not load the viewer's wasm (${failures.join('; ')})`), 'wasm');
   }
 
   async #fetchSource(src, report) {
     const url = new URL(src, document.baseURI);
-    const response = await fetch(url);
-    if (!response.ok) throw new Error(`${url.pathname.split('/').pop()}: HTTP ${response.status}`);
-    const total = Number(response.headers.get('content-length')) || 0;
+    const name = decodeURIComponent(url.pathname.split('/').pop());
     const chunks = [];
     let received = 0;
-    const reader = response.body.getReader();
-    for (;;) {
-      const { done, value } = await reader.read();
-      if (done) break;
-      chunks.push(value);
-      received += value.length;
-      if (total) report('fetch', received / total);
+    try {
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${name}: HTTP ${response.status}`);
+      const total = Number(response.headers.get('content-length')) || 0;
+      const reader = response.body.getReader();
+      for (;;) {
+        const { done, value } = await reader.read();
+        if (done) break;
+        chunks.push(value);
+        received += value.length;
+        if (total) report('fetch', received / total);
+      }
+    } catch (e) {
+      // The network's own words (a TypeError) do not say which file: the message does.
+      throw coded(e.message?.startsWith(name) ? e : new Error(`${name} could not be downloaded (${e.message ?? e})`), 'fetch');
     }
     const bytes = new Uint8Array(received);
     let at = 0;
     for (const c of chunks) { bytes.set(c, at); at += c.length; }
-    return { name: decodeURIComponent(url.pathname.split('/').pop()), bytes, resources: null };
+    return { name, bytes, resources: null };
   }
 
   // Creates the viewer on a fresh canvas and swaps it in only when it works, so a model that
@@ -552,7 +580,7 @@ export class ClodViewerElement extends HTMLElement {
       viewer = await module.Viewer.create(canvas, source.bytes, options);
     } catch (e) {
       // `code: "no-gpu"`: this backend has no GPU here (another may); the details are in the console.
-      throw Object.assign(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), { noGpu: e?.code === 'no-gpu' });
+      throw coded(new Error(`Could not show ${source.name} with ${backend}: ${e.message ?? e}`), e?.code in ERROR_CODES ? e.code : 'model');
     }
     if (this.#loadId !== id) {
       viewer.free();
@@ -569,7 +597,8 @@ export class ClodViewerElement extends HTMLElement {
     this.#viewer?.free();
     this.#viewer = viewer;
     this.#meterSeen = 0;
-    this.#lastState = null;
+    this.#errorsSeen = 0;
+    this.#broken = false;
     this.#backend = backend;
     this.#canvas.replaceWith(canvas);
     this.#canvas = canvas;
@@ -605,11 +634,11 @@ export class ClodViewerElement extends HTMLElement {
     }
   }
 
+  // Shows a failure (an Error with one of ERROR_CODES, see `coded`) and fires `error`.
   #fail(e) {
-    const message = e?.message ?? String(e);
-    this.#alert.textContent = message;
+    this.#alert.textContent = e.message;
     this.#alert.hidden = false;
-    this.#emit('error', { message });
+    this.#emit('error', { code: e.code, message: e.message });
   }
 
   #requireViewer() {
@@ -635,7 +664,7 @@ export class ClodViewerElement extends HTMLElement {
 
   // Runs the frame loop while the element is on screen and the tab visible.
   #schedule() {
-    if (this.#frameId || !this.#viewer || !this.#visible || this.hasAttribute('manual-frames')) return;
+    if (this.#frameId || !this.#viewer || this.#broken || !this.#visible || this.hasAttribute('manual-frames')) return;
     this.#frameId = requestAnimationFrame((now) => this.#tick(now));
   }
 
@@ -648,7 +677,11 @@ export class ClodViewerElement extends HTMLElement {
       this.#viewer.frame(now);
       this.#updateLabels();
     } catch (e) {
-      this.#fail(e);
+      // A frame that throws would throw again: report it once and stop drawing this viewer
+      // (loading a model starts a new one).
+      this.#broken = true;
+      this.#fail(coded(e, 'render'));
+      return;
     }
     this.#schedule();
   }
@@ -689,7 +722,10 @@ export class ClodViewerElement extends HTMLElement {
         ? `${name} · ${view.triangles.toLocaleString()} tris`
         : `${name} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
     });
-    if (state.errors.length) this.#fail(new Error(state.errors.join('\n')));
+    if (state.errors.length > this.#errorsSeen) {
+      this.#fail(coded(new Error(state.errors.slice(this.#errorsSeen).join('\n')), 'render'));
+      this.#errorsSeen = state.errors.length;
+    }
     if (state.meter.transitions > this.#meterSeen) {
       this.#meterSeen = state.meter.transitions;
       this.#emit('meter', { popping: state.meter.popping, alpha: state.meter.alpha, geomorph: state.meter.geomorph });

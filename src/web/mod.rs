@@ -52,13 +52,13 @@ pub struct Viewer {
     queue: Rc<RefCell<Queue>>,
 }
 
-/// Calls that found the viewer busy, applied at the next frame, and the last state read.
-#[derive(Default)]
+/// Calls that found the viewer busy, applied at the next frame, and the last state read (the
+/// state the viewer was created with until a state is read).
 struct Queue {
     updates: Vec<Update>,
     size: Option<(u32, u32)>,
     clips: Vec<String>,
-    last_state: Option<String>,
+    last_state: String,
 }
 
 struct Inner {
@@ -91,8 +91,14 @@ struct Inner {
     lod_from: Option<&'static str>,
 }
 
-fn js_error(e: impl std::fmt::Display) -> JsError {
-    JsError::new(&e.to_string())
+/// An `Error` whose `code` says what kind of failure it is, for the page to act on without
+/// reading the message: `"model"` (the file cannot be shown), `"levels"` (LOD bytes that do not
+/// belong to the file), `"no-gpu"` (this backend has no GPU here), `"backend"` (a backend this
+/// build does not have).
+fn coded_error(code: &str, message: impl std::fmt::Display) -> JsValue {
+    let error = js_sys::Error::new(&message.to_string());
+    let _ = js_sys::Reflect::set(&error, &"code".into(), &code.into());
+    error.into()
 }
 
 /// The identity of the code that builds and reads LOD chains ([`crate::clod::bytes::SOURCE_TAG`]):
@@ -115,9 +121,11 @@ impl Viewer {
     ///
     /// Rejects with an `Error` naming the problem: a file the importer refuses, LOD bytes that do
     /// not belong to this file, no adapter or device for the backend, too many joints, an
-    /// undecodable texture. When the browser gives this backend no GPU at all (no adapter,
-    /// context or device) the error's `code` is `"no-gpu"`, so the page can try another backend
-    /// without reading the message; the backend's own report goes to the console.
+    /// undecodable texture. The error's `code` says which: `"model"` (the file or this GPU's
+    /// limits), `"levels"` (the LOD bytes), `"backend"` (a backend this build lacks), and
+    /// `"no-gpu"` when the browser gives this backend no GPU at all (no adapter, context or
+    /// device), so the page can try another backend without reading the message; the backend's
+    /// own report goes to the console.
     pub async fn create(
         canvas: web_sys::HtmlCanvasElement,
         bytes: Vec<u8>,
@@ -128,18 +136,19 @@ impl Viewer {
             "webgpu" => BackendChoice::WebGpu,
             "webgl2" if cfg!(feature = "webgl") => BackendChoice::WebGl2,
             "webgl2" => {
-                return Err(JsError::new("this build has no WebGL2 backend; load the webgl build").into())
+                return Err(coded_error("backend", "this build has no WebGL2 backend; load the webgl build"))
             }
             other => {
-                return Err(
-                    JsError::new(&format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\"")).into()
-                )
+                return Err(coded_error(
+                    "backend",
+                    format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\""),
+                ))
             }
         };
         let resolve =
             js_options::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
         let mut resolver = js_options::resolver(resolve.as_ref());
-        let character = import::from_bytes(&bytes, &mut resolver).map_err(js_error)?;
+        let character = import::from_bytes(&bytes, &mut resolver).map_err(|e| coded_error("model", e))?;
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();
@@ -177,12 +186,12 @@ impl Viewer {
             (Some(_), false) => Some("inline"),
         };
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(|e| {
-            let error = js_sys::Error::new(&e.to_string());
             if e.is_unavailable() {
-                let _ = js_sys::Reflect::set(&error, &"code".into(), &"no-gpu".into());
                 web_sys::console::warn_1(&format!("clod-viewer: {e}: {}", e.detail()).into());
+                coded_error("no-gpu", e)
+            } else {
+                coded_error("model", e)
             }
-            JsValue::from(error)
         })?;
         if renderer.morphs_dropped() {
             warnings.push(MORPHS_DROPPED.into());
@@ -211,7 +220,9 @@ impl Viewer {
             built_off_main_thread,
             lod_from,
         };
-        let queue = Queue { clips, ..Queue::default() };
+        // The viewer answers `state()` from birth: a page that asks while the first frame or the
+        // levels hold it gets the state it was created with, never null.
+        let queue = Queue { updates: Vec::new(), size: None, clips, last_state: inner.state_json() };
         Ok(Viewer { inner: Rc::new(RefCell::new(inner)), queue: Rc::new(RefCell::new(queue)) })
     }
 
@@ -268,13 +279,17 @@ impl Viewer {
     pub fn state(&self) -> Result<JsValue, JsError> {
         let json = match self.lock() {
             Some(mut inner) => {
-                let errors = inner.renderer.take_errors();
-                inner.errors.extend(errors);
+                // Each problem once, however often the GPU repeats it.
+                for error in inner.renderer.take_errors() {
+                    if !inner.errors.contains(&error) {
+                        inner.errors.push(error);
+                    }
+                }
                 let json = inner.state_json();
-                self.queue.borrow_mut().last_state = Some(json.clone());
+                self.queue.borrow_mut().last_state.clone_from(&json);
                 json
             }
-            None => self.queue.borrow().last_state.clone().unwrap_or_else(|| "null".into()),
+            None => self.queue.borrow().last_state.clone(),
         };
         js_sys::JSON::parse(&json).map_err(|_| JsError::new("state is not JSON"))
     }
@@ -414,7 +429,7 @@ impl Viewer {
 /// Decodes LOD chain bytes made for `character` (by a worker or an earlier visit).
 fn decode_chain(bytes: &[u8], character: &Character) -> Result<Clod, JsValue> {
     clod::bytes::decode(bytes, character)
-        .map_err(|e| JsError::new(&format!("the LOD chain does not fit this file: {e}")).into())
+        .map_err(|e| coded_error("levels", format!("the LOD chain does not fit this file: {e}")))
 }
 
 /// Waits (yielding to the browser) until nothing else holds the viewer.

@@ -242,11 +242,14 @@ impl Renderer {
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = Arc::clone(&errors);
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            push_error(&sink, format!("GPU error: {e}"))
+            push_error(&sink, GPU_ERROR, &format!("GPU error: {e}"))
         }));
         let sink = Arc::clone(&errors);
         device.set_device_lost_callback(move |reason, message| {
-            push_error(&sink, format!("the GPU device was lost ({reason:?}): {message}"));
+            // Dropping the viewer destroys its device too: that is no failure.
+            if reason != wgpu::DeviceLostReason::Destroyed {
+                push_error(&sink, DEVICE_LOST, &format!("the GPU device was lost ({reason:?}): {message}"));
+            }
         });
 
         let caps = surface.get_capabilities(&adapter);
@@ -447,7 +450,7 @@ impl Renderer {
                 return;
             }
             other => {
-                push_error(&self.errors, format!("the canvas could not give a frame: {other:?}"));
+                push_error(&self.errors, NO_FRAME, &format!("the canvas could not give a frame: {other:?}"));
                 return;
             }
         };
@@ -655,11 +658,21 @@ impl Renderer {
     }
 }
 
-fn push_error(sink: &Mutex<Vec<String>>, message: String) {
+/// What a reader is told when the GPU reports a problem while drawing; the GPU's own report (a
+/// validation dump, say) goes to the console.
+const GPU_ERROR: &str =
+    "the GPU reported an error while drawing, so the views may be wrong (details in the console)";
+const DEVICE_LOST: &str =
+    "the GPU stopped drawing this viewer (its device was lost); reload the page to draw again";
+const NO_FRAME: &str = "the canvas could not give a frame to draw into (details in the console)";
+
+/// Records a problem for `state().errors` once (a broken pipeline repeats the same report every
+/// frame) and logs the GPU's own report to the console.
+fn push_error(sink: &Mutex<Vec<String>>, reader: &str, detail: &str) {
+    web_sys::console::warn_1(&format!("clod-viewer: {detail}").into());
     let mut errors = sink.lock().unwrap_or_else(|p| p.into_inner());
-    // Keep the first few: a broken pipeline repeats the same error every frame.
-    if errors.len() < 16 {
-        errors.push(message);
+    if !errors.iter().any(|e| e == reader) {
+        errors.push(reader.to_owned());
     }
 }
 
