@@ -20,6 +20,9 @@ step() { echo; echo "== $*"; }
 step "cargo fmt --check"
 cargo fmt --all --check
 
+step "paths named in docs and comments exist"
+node scripts/check-paths.mjs
+
 step "clippy (native, all targets; wasm32 library with the JS API)"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
