@@ -1,5 +1,5 @@
 // Module worker of <clod-viewer>: builds a character's LOD chain off the main thread with the same
-// wasm build the page loaded, and sends it back as bytes (src/clod/bytes.rs) that the page's
+// wasm build the page loaded, and sends it back as bytes (src/clod/bytes/) that the page's
 // `Viewer.create` decodes. Messages in: `{ id, moduleUrl, name, bytes, resources }`; out:
 // `{ id, type: 'progress', fraction }` (rising, ending at 1), then `{ id, type: 'done', clod,
 // buildMs }` or `{ id, type: 'error', message }`.

@@ -414,8 +414,8 @@ mod tests {
 
     #[test]
     fn vertex_layout_matches_the_shader_locations() {
-        // gpu.rs declares these offsets for locations 0..5 (and the morph range at 12 and 13);
-        // 80 bytes per vertex, 160 with ancestor.
+        // src/render/gpu/pipelines.rs declares these offsets for locations 0..5 (and the morph
+        // range at 12 and 13); 80 bytes per vertex, 160 with ancestor.
         assert_eq!(std::mem::size_of::<VertexRaw>(), 80);
         assert_eq!(std::mem::offset_of!(VertexRaw, joints), 48);
         assert_eq!(std::mem::offset_of!(VertexRaw, weights), 56);

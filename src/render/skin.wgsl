@@ -1,5 +1,6 @@
-// Skinned, lit character for the three LOD views (src/render/gpu.rs binds it; the Rust mirrors of
-// these structs are in src/render/uniforms.rs and tests/shaders.rs checks their sizes match).
+// Skinned, lit character for the three LOD views (src/render/gpu/pipelines.rs builds its
+// pipelines; the Rust mirrors of these structs are in src/render/uniforms.rs and tests/shaders.rs
+// checks their sizes match).
 //
 // Linear-blend skinning on the GPU: `model_from_bind` of every joint is uploaded once per frame,
 // as a texture (`joint_matrices`).
