@@ -5,6 +5,7 @@
 //! Nothing here trusts a length field: every slice is checked against the bytes actually present.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
 use base64::Engine;
@@ -193,23 +194,35 @@ pub(crate) fn load_buffers<'a>(
         });
     }
     let sources: Vec<&[u8]> = buffers.iter().map(|b| &b[..]).collect();
-    let file_bytes: usize = sources.iter().map(|b| b.len()).sum();
     let decoded = super::meshopt::decode_views(root, &sources)?;
-    let mut loaded = Buffers { buffers, decoded, draco: Default::default() };
-    loaded.draco = super::draco::decode_primitives(root, &loaded, file_bytes)?;
-    Ok(loaded)
+    Ok(Buffers { buffers, decoded, draco: DecodedAccessors::new() })
 }
+
+/// The bytes of accessors decoded from a compressed stream, by accessor index: each accessor's
+/// elements tightly packed in its declared type.
+pub(crate) type DecodedAccessors = HashMap<usize, Vec<u8>>;
 
 /// Every buffer's bytes, and the decoded bytes of the buffer views stored compressed
 /// (`EXT_meshopt_compression`, see `meshopt`), which replace their views' buffer ranges.
 pub(crate) struct Buffers<'a> {
     buffers: Vec<Cow<'a, [u8]>>,
     decoded: Vec<Option<Vec<u8>>>,
-    /// The accessors of Draco-compressed primitives, decoded (see `draco`).
-    draco: super::draco::DecodedAccessors,
+    /// The accessors of Draco-compressed primitives, decoded (see `draco`; empty until
+    /// `set_draco`).
+    draco: DecodedAccessors,
 }
 
 impl Buffers<'_> {
+    /// The bytes the file's buffers hold, all together (each cut to its declared length).
+    pub(crate) fn file_bytes(&self) -> usize {
+        self.buffers.iter().map(|b| b.len()).sum()
+    }
+
+    /// Takes the accessors that Draco-compressed primitives decoded to (see `draco`).
+    pub(crate) fn set_draco(&mut self, draco: DecodedAccessors) {
+        self.draco = draco;
+    }
+
     /// The decoded bytes of accessor `accessor` when a Draco-compressed primitive defines it:
     /// its elements tightly packed in its declared type.
     pub(crate) fn draco_accessor(&self, accessor: usize) -> Option<&[u8]> {

@@ -15,14 +15,12 @@
 //! importer's own vertex and index limits, and in bytes, all streams together, by
 //! [`MAX_EXPANSION`] times the file (at least [`MIN_BUDGET`]).
 
-use std::collections::HashMap;
-
 use draco_core::{DecodeLimits, DecoderBuffer, ErrorKind, Mesh, MeshDecoder, PointAttribute};
 use gltf_json::accessor::{ComponentType, GenericComponentType};
 use gltf_json::validation::Checked;
 use gltf_json::{Root, Value};
 
-use super::container::{view_bytes, Buffers};
+use super::container::{view_bytes, Buffers, DecodedAccessors};
 use super::meshopt::MAX_EXPANSION;
 use super::{ImportError, MAX_INDICES, MAX_VERTICES};
 
@@ -31,9 +29,6 @@ const MIN_BUDGET: usize = 1 << 20;
 
 /// The extension's name in `extensionsUsed` and on a primitive.
 pub(crate) const EXTENSION: &str = "KHR_draco_mesh_compression";
-
-/// The bytes of every accessor that a Draco-compressed primitive defines, by accessor index.
-pub(crate) type DecodedAccessors = HashMap<usize, Vec<u8>>;
 
 /// The accessors that Draco-compressed primitives define: their indices and the attributes the
 /// extension maps (they need no buffer view).
@@ -63,15 +58,11 @@ pub(crate) fn compressed_accessors(root: &Root) -> Vec<usize> {
 /// # Errors
 /// [`ImportError::Invalid`] naming the primitive: a malformed extension object, a stream that
 /// does not decode or is over the limits, or decoded counts that disagree with the accessors.
-pub(crate) fn decode_primitives(
-    root: &Root,
-    buffers: &Buffers,
-    file_bytes: usize,
-) -> Result<DecodedAccessors, ImportError> {
+pub(crate) fn decode_primitives(root: &Root, buffers: &Buffers) -> Result<DecodedAccessors, ImportError> {
     let mut decoded = DecodedAccessors::new();
     // What all streams together may decode to: primitives may share one stream, so each decode
     // gets what the ones before it left.
-    let mut budget = file_bytes.saturating_mul(MAX_EXPANSION).max(MIN_BUDGET);
+    let mut budget = buffers.file_bytes().saturating_mul(MAX_EXPANSION).max(MIN_BUDGET);
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {

@@ -5,10 +5,10 @@
 //! The pipeline, in the order of this module's files:
 //! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
 //!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else) and decode
-//!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`)
-//!    and the Draco-compressed primitives (`draco`: `KHR_draco_mesh_compression`). A file
-//!    that requires an extension we cannot read is an
-//!    [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
+//!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`);
+//!    then `draco` decodes the Draco-compressed primitives (`KHR_draco_mesh_compression`) from
+//!    those buffers into their accessors' bytes. A file that requires an extension we cannot read
+//!    is an [`ImportError::UnsupportedExtension`] naming it; `KHR_mesh_quantization` and
 //!    `KHR_texture_transform` (gltfpack's output) are read; a required texture format we do not
 //!    decode (KTX2, WebP, …) only drops those textures, with a warning.
 //! 2. `scene`: the node tree of the default scene (scene 0 if none is marked): parents, cycle
@@ -332,7 +332,8 @@ fn import(
 ) -> Result<Character, ImportError> {
     let mut warnings = Vec::new();
     let root = parse_document(json, &mut warnings)?;
-    let buffers = container::load_buffers(&root, bin, resolve)?;
+    let mut buffers = container::load_buffers(&root, bin, resolve)?;
+    buffers.set_draco(draco::decode_primitives(&root, &buffers)?);
     let src = Source { root: &root, buffers: &buffers };
 
     let graph = scene::SceneGraph::new(&root)?;
