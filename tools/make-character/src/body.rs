@@ -13,7 +13,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::field::Shape;
+use crate::field::{Part, Shape};
 use crate::math;
 
 /// Joint indices, parent-first (a joint's parent always has a smaller index).
@@ -55,15 +55,6 @@ pub struct Joint {
     pub tail: Vec3,
     /// `model_from_joint` rotation at rest: local +Y along `tail - head`.
     pub rotation: Quat,
-}
-
-/// One implicit primitive of the body, owned by a bone.
-#[derive(Clone, Debug)]
-pub struct Part {
-    pub shape: Shape,
-    pub bone: usize,
-    /// Smooth-union radius with everything before it, in metres (larger = softer crease).
-    pub blend: f32,
 }
 
 /// Total height the design aims at (top of the head), in metres.

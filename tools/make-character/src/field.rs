@@ -8,8 +8,6 @@
 
 use glam::{Quat, Vec3};
 
-use crate::body::Part;
-
 /// An implicit primitive in model space.
 #[derive(Clone, Debug)]
 pub enum Shape {
@@ -49,6 +47,15 @@ impl Shape {
             }
         }
     }
+}
+
+/// One implicit primitive of the body, owned by a bone (a joint index).
+#[derive(Clone, Debug)]
+pub struct Part {
+    pub shape: Shape,
+    pub bone: usize,
+    /// Smooth-union radius with everything before it, in metres (larger = softer crease).
+    pub blend: f32,
 }
 
 /// Polynomial smooth minimum: equals `min(a, b)` when they differ by more than `k`, and rounds

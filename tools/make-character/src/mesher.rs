@@ -12,8 +12,7 @@
 
 use glam::Vec3;
 
-use crate::body::Part;
-use crate::field::{body_distance, body_normal};
+use crate::field::{body_distance, body_normal, Part};
 
 /// A regular sampling grid: `dims` samples per axis, `cell` metres apart, starting at `origin`.
 #[derive(Clone, Copy, Debug)]

@@ -14,8 +14,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::body::{joint, Joint, Part, HEIGHT};
-use crate::field::body_distance;
+use crate::body::{joint, Joint, HEIGHT};
+use crate::field::{body_distance, Part};
 use crate::math;
 use crate::mesher::RawMesh;
 

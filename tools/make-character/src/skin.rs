@@ -10,7 +10,7 @@
 use glam::Vec3;
 
 use crate::body::joint;
-use crate::body::Part;
+use crate::field::Part;
 
 /// Falloff radius in metres: the bend at an elbow or knee spreads over about this much skin on
 /// either side of the joint, roughly one limb radius, which is what painted rigs do.
