@@ -3,10 +3,13 @@
 //! draws of a view: per [`InstancedDraw`], the level's own vertex and index buffers, the
 //! records' range as the instance buffer, one `draw_indexed` per material range.
 
-use super::*;
+use std::collections::HashMap;
+
+use super::pipelines::{create_crowd_pipelines, create_ground_pipeline, float_texture_entry};
+use super::resources::float_texture;
+use super::{PipelineKey, Renderer, DRAW_SLOTS, DRAW_STRIDE};
 use crate::render::crowd::{CrowdFrame, InstanceRaw, InstancedDraw, PosePalette};
-use pipelines::{create_crowd_pipelines, create_ground_pipeline, float_texture_entry};
-use resources::float_texture;
+use crate::render::uniforms::DrawRaw;
 
 /// Records the instance buffer holds at first; it doubles when a frame needs more.
 const FIRST_CAPACITY: u64 = 1024;

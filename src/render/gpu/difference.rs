@@ -2,8 +2,10 @@
 //! view's pass, reading the live meter's reference and view pictures of the same frame (see
 //! `difference.wgsl`). The meter's draws are recorded before the views' for this.
 
-use super::*;
+use super::resources::uniform_buffer;
+use super::{Renderer, DEPTH_FORMAT, DRAW_STRIDE};
 use crate::render::difference::{AreaRaw, DIFFERENCE_WGSL};
+use crate::render::layout::Rect;
 
 /// The overlay's pipeline and its per-view uniform slots.
 pub(super) struct DifferenceGpu {

@@ -1,7 +1,8 @@
 //! Render targets: the surface configuration (sRGB where possible), the depth and MSAA targets,
 //! the per-view textures of the composed path, and the render pass that clears them.
 
-use super::*;
+use super::{BackendChoice, BACKGROUND, DEPTH_FORMAT};
+use crate::render::layout::Rect;
 
 /// A render pass clearing colour to `background` and depth to 1.
 pub(super) fn begin_pass<'e>(

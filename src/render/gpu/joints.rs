@@ -1,7 +1,9 @@
 //! The joint matrices' texture (`joint_matrices` in `skin.wgsl`, laid out by
 //! [`crate::render::joint_texture`]): made once per character, rewritten every frame.
 
-use super::*;
+use glam::Mat4;
+
+use super::{resources, RenderError};
 use crate::render::joint_texture::{joint_texels, joint_texture_size, JOINTS_PER_ROW};
 
 pub(super) struct JointTexture {

@@ -7,8 +7,9 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use super::*;
-use crate::render::plan::{plan_view, Method};
+use super::{frame_targets, FrameInput, Renderer};
+use crate::render::overlay::Overlay;
+use crate::render::plan::{plan_view, Method, ViewPlan};
 use crate::render::schedule::Transition;
 
 /// Height of the meter's pictures, pixels (the width follows the view's aspect). At 128 px the

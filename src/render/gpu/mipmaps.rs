@@ -2,7 +2,7 @@
 //! (`render/mipmap.wgsl`), and reads them back for the page's tests.
 
 use super::readback::read_texture_level;
-use super::*;
+use super::{RenderError, Renderer};
 use crate::render::mipmap::MIPMAP_WGSL;
 
 /// Draws levels `1..` of `texture` (sRGB RGBA8, with `RENDER_ATTACHMENT` and

@@ -8,12 +8,10 @@
 //! asynchronously (validation, out of memory, device loss) are collected and handed to the page
 //! by [`Renderer::take_errors`].
 
-use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use glam::Mat4;
 use thiserror::Error;
-use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
 mod crowd;
@@ -33,13 +31,13 @@ use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTar
 use pipelines::{create_pipelines, BindLayouts, Pipelines};
 use resources::{uniform_buffer, upload_level, upload_materials};
 
-use super::crowd::{CrowdFrame, InstanceRaw, INSTANCE_OFFSETS};
+use super::crowd::CrowdFrame;
 use super::layout::Rect;
-use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource, VertexRaw};
+use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource};
 use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
-use super::uniforms::{CameraRaw, DrawRaw, MaterialRaw, MorphWeightsRaw, CROWD_WGSL, SKIN_WGSL};
-use crate::character::{AlphaMode, Character};
+use super::uniforms::{CameraRaw, DrawRaw, MorphWeightsRaw};
+use crate::character::Character;
 
 /// Why the renderer could not start or draw.
 #[derive(Debug, Error)]

@@ -5,8 +5,8 @@
 //! rather than a storage buffer: WebGL2 has no storage buffers in vertex shaders, and one path on
 //! both backends keeps the comparison fair.
 
-use super::*;
-use crate::render::lod_source::MORPH_TEXTURE_WIDTH;
+use super::{resources, Renderer};
+use crate::render::lod_source::{LodSource, MORPH_TEXTURE_WIDTH};
 
 /// The morph-delta texture of `texels` (a 1 × 1 zero texel when there are none, or when they need
 /// more rows than the device's largest texture: then `dropped` is true and the views draw the

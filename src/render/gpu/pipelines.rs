@@ -3,7 +3,13 @@
 //! the skeleton overlay's; and the crowd's instanced twins of the shaded pipelines
 //! (`crowd.wgsl`).
 
-use super::*;
+use std::collections::HashMap;
+
+use super::{PipelineKey, BONE_VERTEX_STRIDE, DEPTH_FORMAT};
+use crate::render::crowd::{InstanceRaw, INSTANCE_OFFSETS};
+use crate::render::lod_source::{GeomorphVertexRaw, VertexRaw};
+use crate::render::plan::PassKind;
+use crate::render::uniforms::{CROWD_WGSL, SKIN_WGSL};
 
 pub(super) struct BindLayouts {
     pub(super) frame: wgpu::BindGroupLayout,

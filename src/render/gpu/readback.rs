@@ -3,7 +3,7 @@
 //! on. WebGL2 cannot block on the GPU, so maps are polled with a
 //! deadline, yielding to the browser's event loop between tries.
 
-use super::*;
+use super::{FrameInput, Pixels, RenderError, Renderer};
 
 impl Renderer {
     /// Draws a frame offscreen at the canvas size and reads it back.

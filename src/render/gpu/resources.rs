@@ -1,9 +1,15 @@
 //! GPU copies of the character: vertex and index buffers of each level, uniform buffers, and one
 //! bind group per material with its base-colour texture decoded by the browser.
 
-use super::*;
+use wasm_bindgen::JsCast;
+use wgpu::util::DeviceExt;
+
+use super::{LevelGpu, MaterialGpu, RenderError};
+use crate::character::{AlphaMode, Character};
+use crate::render::lod_source::LevelData;
 use crate::render::mipmap::mip_level_count;
 use crate::render::overlay::edge_indices;
+use crate::render::uniforms::MaterialRaw;
 
 /// Vertex and index buffers of a level, and its edges for the wireframe overlay; materials
 /// outside the table use the default material.
