@@ -7,8 +7,10 @@
 //!    uv, colour), recording the progressive mesh ([`crate::simplify`](mod@crate::simplify),
 //!    [`crate::progressive`]);
 //! 3. carry every moved vertex back into bind space through the inverse of its blended skin
-//!    matrix at `P0`; the new vertex keeps the skin weights of the vertex it inherits identity from
-//!    (the collapse's survivor, as in the paper), so every level animates with every clip;
+//!    matrix at `P0`; the new vertex's skin weights blend the two merged vertices' by where it
+//!    lies on their edge ([`WeightRule::Blend`], the default), or are those of the vertex it
+//!    inherits identity from (the collapse's survivor, as in the paper: [`WeightRule::Survivor`]),
+//!    so every level animates with every clip;
 //! 4. extract discrete levels with ancestor tables for geomorphs ([`chain`]).
 //!
 //! Morph target deltas ride along: every vertex id carries its bind-space deltas (input vertices
