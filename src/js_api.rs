@@ -86,7 +86,7 @@ impl Character {
         self.inner.mesh.primitives.len()
     }
 
-    /// Number of morph targets: every primitive's targets count separately (see the README).
+    /// Number of morph targets: every primitive's targets count separately (see docs/import.md).
     #[wasm_bindgen(getter, js_name = morphTargetCount)]
     pub fn morph_target_count(&self) -> usize {
         self.inner.morph_targets.len()

@@ -1,7 +1,8 @@
 //! Articulated progressive meshes for skinned glTF characters, and a browser viewer that compares
 //! level-of-detail transitions (popping, alpha-blending, geomorphing) on them.
 //!
-//! The data path, from a dropped file to a frame:
+//! The data path, from a dropped file to a frame (README.md has the same map with the file of
+//! each stage):
 //!
 //! ```text
 //! bytes ─ import::from_bytes ─▶ Character (SkinnedMesh, Skeleton, Clips, MorphDeltas)
@@ -11,7 +12,10 @@
 //!   ─ clod::bytes::encode / decode ─▶ (worker → page, IndexedDB cache)
 //!   ─ render::lod_source::LodSource::from_clod ─▶ GPU-ready levels ─ render::gpu::Renderer::new
 //! per frame: render::viewer::ViewerModel::advance (clocks, camera, schedule::step, plan::plan_view)
-//!   ─ Renderer::render ─▶ render/skin.wgsl (morph and skin every view), difference.wgsl (the meter)
+//!   ─ Renderer::render ─▶ render/skin.wgsl (morph and skin every view)
+//!   ─ the live meter: render::meter::TransitionMeter, difference.wgsl
+//! crowd mode, per frame: render::crowd::Crowd::advance (per instance: level, transition, palette row)
+//!   ─ crowd.wgsl instanced draws
 //! ```
 //!
 //! The core — [`import`], [`character`], [`mesh`], [`twins`], [`skeleton`], [`animation`],

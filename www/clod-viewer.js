@@ -310,11 +310,11 @@ export class ClodViewerElement extends HTMLElement {
   pause() { this.setState({ paused: true }); }
   /** Moves the animation clock to `seconds`. */
   setTime(seconds) { this.setState({ time: Number(seconds) }); }
-  /** Changes viewer settings (see the README's list of keys); throws on an unknown key or bad value. */
+  /** Changes viewer settings (the keys: docs/viewer.md); throws on an unknown key or bad value. */
   setState(state) { this.#requireViewer().setState(state); this.#schedule(); }
   /**
    * What the views show: levels, triangles, `level → to` and `t` of the transition every view
-   * shows, backend, … (see the README). While a readback or a pop-spike measurement holds the
+   * shows, backend, … (see docs/viewer.md). While a readback or a pop-spike measurement holds the
    * viewer, the last state read.
    */
   state() {
@@ -344,7 +344,7 @@ export class ClodViewerElement extends HTMLElement {
     const m = this.state().meter;
     return { popping: m.popping, alpha: m.alpha, geomorph: m.geomorph };
   }
-  /** The meter's recent samples for a strip chart (see the README). */
+  /** The meter's recent samples for a strip chart (see docs/viewer.md). */
   meterHistory() { return this.#requireViewer().meterHistory(); }
   /** Measures each view's largest frame-to-frame change through one LOD switch. */
   measurePopSpike(options = {}) { return this.#requireViewer().measurePopSpike(options); }

@@ -41,7 +41,7 @@ pub enum SimplificationPose {
     /// Simplified in the bind pose, with quadrics summed over frames sampled from every clip.
     /// The default: of bind, mid-clip and multi-pose it gave the lowest animated error averaged
     /// over the shared models and the built-in character, and it never did worse than the bind
-    /// pose, where one clip frame sometimes does (README, "Articulated progressive mesh").
+    /// pose, where one clip frame sometimes does (bench/README.md, lod-vs-meshoptimizer.mjs).
     MultiPose { frames_per_clip: usize },
     /// The middle frame of the first clip (the bind pose when there is no clip): Houle &
     /// Poulin's half-bent pose without having to name one.
