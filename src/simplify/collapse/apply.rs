@@ -117,7 +117,7 @@ impl Engine<'_> {
         };
         for (iv, k) in v_range.clone().enumerate() {
             let wv = self.classes.wedges[k] as usize;
-            let partner = self.v_partner[iv];
+            let partner = self.scratch.pairing.v_partner[iv];
             let wu = if partner == NONE {
                 usize::MAX
             } else {
@@ -152,17 +152,17 @@ impl Engine<'_> {
                 } else {
                     own
                 };
-                self.new_attributes[j] = value;
+                self.scratch.new_attributes[j] = value;
             }
             if let (Some(c), CollapseMode::Full) = (self.normal_channel, self.mode) {
-                let normal = Vec3::from_slice(&self.new_attributes[c..c + 3]).normalize_or_zero();
+                let normal = Vec3::from_slice(&self.scratch.new_attributes[c..c + 3]).normalize_or_zero();
                 if normal != Vec3::ZERO {
-                    self.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
+                    self.scratch.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
                 }
             }
             let id = self.log.positions.len() as u32;
             self.log.positions.push(p.as_vec3());
-            self.log.attributes.extend_from_slice(&self.new_attributes);
+            self.log.attributes.extend_from_slice(&self.scratch.new_attributes);
             self.log.parent.push(NONE);
             self.log.born_at.push(step);
             self.log.survivor_source.push(self.vertex_id[wv]);
@@ -171,13 +171,13 @@ impl Engine<'_> {
                 self.log.parent[self.vertex_id[wu] as usize] = id;
             }
             self.vertex_id[wv] = id;
-            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.new_attributes);
+            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.scratch.new_attributes);
         }
         let new_count = self.log.positions.len() as u32 - first_new;
         // Wedges of u that no live triangle uses any more end here too.
         for (iu, k) in u_range.clone().enumerate() {
             let wu = self.classes.wedges[k] as usize;
-            if !self.u_seen[iu] && new_count > 0 {
+            if !self.scratch.pairing.u_seen[iu] && new_count > 0 {
                 self.log.parent[self.vertex_id[wu] as usize] = first_new;
             }
         }
@@ -209,7 +209,7 @@ impl Engine<'_> {
             }
             let wu = self.corner_wedge[ci];
             let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
-            let wv = self.classes.wedges[v_range.start + self.u_pair[iu] as usize];
+            let wv = self.classes.wedges[v_range.start + self.scratch.pairing.u_pair[iu] as usize];
             self.corner_wedge[ci] = wv;
             self.corner_class[ci] = v;
             self.log.corner_changes.push(RawCornerChange {
@@ -282,8 +282,8 @@ impl Engine<'_> {
         // it is a junction or parked, whose plans depend on that (and had been, before this rule:
         // every edge of every junction and parked neighbour); every other queued entry is still
         // exact and stays.
-        let mut neighbours = std::mem::take(&mut self.neighbours);
-        let mut second = std::mem::take(&mut self.second_neighbours);
+        let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
+        let mut second = std::mem::take(&mut self.scratch.second_neighbours);
         self.neighbours_into(v, &mut neighbours);
         let is_third = |x: u32| x == thirds[0] || x == thirds[1];
         for &x in &neighbours {
@@ -304,15 +304,15 @@ impl Engine<'_> {
                 continue;
             }
             self.neighbours_into(x, &mut second);
-            let stamp = self.next_stamp();
+            let stamp = self.scratch.marks.next_stamp();
             let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
             while record != NONE {
                 let (partner, next) = self.failed[record as usize];
-                self.mark[partner as usize] = stamp;
+                self.scratch.marks.set(partner, stamp);
                 record = next;
             }
             for &y in &second {
-                if y != v && (is_third(y) || self.mark[y as usize] == stamp) {
+                if y != v && (is_third(y) || self.scratch.marks.is_set(y, stamp)) {
                     self.requeue(x, y);
                 }
             }
@@ -325,8 +325,8 @@ impl Engine<'_> {
                 }
             }
         }
-        self.neighbours = neighbours;
-        self.second_neighbours = second;
+        self.scratch.neighbours = neighbours;
+        self.scratch.second_neighbours = second;
     }
 
     /// The range of class `c`'s wedges in `classes.wedges`.

@@ -108,12 +108,12 @@ impl Engine<'_> {
     /// (`poses.rs`); `None` for an invalid one.
     pub(super) fn check(&mut self, plan: &Plan) -> Option<(u32, f64)> {
         let (u, v) = (plan.u, plan.v);
-        let stamp = self.next_stamp();
+        let stamp = self.scratch.marks.next_stamp();
         for corner in self.lists.iter(v) {
             let (n, p) = other_corners(corner);
             let (a, b) = (self.class_at(n), self.class_at(p));
-            self.mark[a as usize] = stamp;
-            self.mark[b as usize] = stamp;
+            self.scratch.marks.set(a, stamp);
+            self.scratch.marks.set(b, stamp);
         }
         let mut opposite = [NONE; 2];
         let mut count = 0;
@@ -155,7 +155,7 @@ impl Engine<'_> {
             }
             // Link condition: u and v may only share the neighbours across the edge.
             for x in [a, b] {
-                if self.mark[x as usize] == stamp && !is_opposite(x) {
+                if self.scratch.marks.is_set(x, stamp) && !is_opposite(x) {
                     return None;
                 }
             }
@@ -188,7 +188,7 @@ impl Engine<'_> {
                 }
             }
         }
-        let scratch = std::mem::take(&mut self.probe_scratch);
+        let scratch = std::mem::take(&mut self.scratch.probe_triangles);
         let ends = [u, v].map(|end| self.farthest_input[end as usize]);
         let points = ends.map(|vertex| self.input_positions[vertex as usize].as_dvec3());
         let posed = self.measures_in_poses(plan);
@@ -204,16 +204,16 @@ impl Engine<'_> {
         let farthest = unfolded.then(|| {
             let (k, distance) = probes.farthest();
             let in_poses = if posed && probes.survivors && !(distance > self.max_distance) {
-                let mut old = std::mem::take(&mut self.posed_scratch);
+                let mut old = std::mem::take(&mut self.scratch.posed_triangles);
                 let step = self.step_beyond_floor_in_poses(plan, &probes.triangles, &mut old);
-                self.posed_scratch = old;
+                self.scratch.posed_triangles = old;
                 step
             } else {
                 0.0
             };
             (ends[k], distance.max(in_poses))
         });
-        self.probe_scratch = probes.triangles;
+        self.scratch.probe_triangles = probes.triangles;
         farthest
     }
 

@@ -60,6 +60,7 @@ mod checks;
 mod passes;
 mod plan;
 mod poses;
+mod scratch;
 mod stats;
 mod strict;
 
@@ -77,6 +78,7 @@ use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
 use glam::{DVec3, Vec3};
+use scratch::Scratch;
 use std::cell::{Cell, RefCell};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -239,15 +241,7 @@ struct Engine<'a> {
     pending: Vec<(u32, u32)>,
     /// Scratch of the pass threshold: the candidates' cost bits.
     keys: Vec<u32>,
-    // Scratch (reused, never reallocated once grown).
-    mark: Vec<u32>,
-    stamp: u32,
-    u_pair: Vec<u32>,
-    u_seen: Vec<bool>,
-    v_partner: Vec<u32>,
-    neighbours: Vec<u32>,
-    second_neighbours: Vec<u32>,
-    new_attributes: Vec<f32>,
+    scratch: Scratch,
     log: CollapseLog,
     /// This run's counts, added to the process-wide ones at the end.
     stats: PricingStats,
@@ -260,12 +254,8 @@ struct Engine<'a> {
     input_positions: &'a [Vec3],
     /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`).
     other_poses: Option<OtherPoses<'a>>,
-    /// The replaced triangles of a collapse in a pose (`poses.rs`).
-    posed_scratch: Vec<[DVec3; 3]>,
     /// [`SimplifyOptions::max_distance`].
     max_distance: f64,
-    /// The surviving triangles of the collapse being checked (`checks.rs`, `Probes`).
-    probe_scratch: Vec<checks::ProbeTriangle>,
     /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
     /// average area.
     inverse_mean_pair_area: f64,
@@ -354,11 +344,9 @@ impl<'a> Engine<'a> {
         Engine {
             over_floor: false,
             farthest_input: classes.representative.clone(),
-            posed_scratch: Vec::new(),
             input_positions: positions,
             other_poses: input.other_poses,
             max_distance: f64::from(options.max_distance),
-            probe_scratch: Vec::new(),
             clearance: Clearance::new(positions, indices, input.other_poses),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
@@ -399,14 +387,7 @@ impl<'a> Engine<'a> {
             candidates: Vec::new(),
             pending: Vec::new(),
             keys: Vec::new(),
-            mark: vec![0; class_count],
-            stamp: 0,
-            u_pair: Vec::new(),
-            u_seen: Vec::new(),
-            v_partner: Vec::new(),
-            neighbours: Vec::new(),
-            second_neighbours: Vec::new(),
-            new_attributes: vec![0.0; m],
+            scratch: Scratch::new(class_count, m),
             log,
             stats: PricingStats::default(),
             classes,
@@ -418,25 +399,17 @@ impl<'a> Engine<'a> {
         self.corner_class[corner as usize]
     }
 
-    fn next_stamp(&mut self) -> u32 {
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.mark.fill(0);
-            self.stamp = 1;
-        }
-        self.stamp
-    }
-
     /// The distinct neighbour classes of `c`, into `out` (cleared first).
     fn neighbours_into(&mut self, c: u32, out: &mut Vec<u32>) {
         out.clear();
-        let stamp = self.next_stamp();
-        self.mark[c as usize] = stamp;
+        let marks = &mut self.scratch.marks;
+        let stamp = marks.next_stamp();
+        marks.set(c, stamp);
         for corner in self.lists.iter(c) {
             let (n, p) = other_corners(corner);
-            for x in [self.class_at(n), self.class_at(p)] {
-                if self.mark[x as usize] != stamp {
-                    self.mark[x as usize] = stamp;
+            for x in [self.corner_class[n as usize], self.corner_class[p as usize]] {
+                if !marks.is_set(x, stamp) {
+                    marks.set(x, stamp);
                     out.push(x);
                 }
             }
@@ -461,7 +434,7 @@ impl<'a> Engine<'a> {
         if self.schedule == Schedule::Strict {
             self.relaxed = (0..self.classes.count()).map(|c| self.relaxed_quadric(c)).collect();
         }
-        let mut neighbours = std::mem::take(&mut self.neighbours);
+        let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
         for c in 0..self.classes.count() as u32 {
             self.neighbours_into(c, &mut neighbours);
             neighbours.retain(|&x| c < x);
@@ -474,7 +447,7 @@ impl<'a> Engine<'a> {
                 }
             }
         }
-        self.neighbours = neighbours;
+        self.scratch.neighbours = neighbours;
     }
 
     fn push(&mut self, plan: &Plan) {

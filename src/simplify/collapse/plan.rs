@@ -40,19 +40,19 @@ impl Engine<'_> {
         }
         let u_wedges = self.classes.wedges_of(u);
         let v_wedges = self.classes.wedges_of(v);
-        self.u_pair.clear();
-        self.u_pair.resize(u_wedges.len(), NONE);
-        self.u_seen.clear();
-        self.u_seen.resize(u_wedges.len(), false);
+        self.scratch.pairing.u_pair.clear();
+        self.scratch.pairing.u_pair.resize(u_wedges.len(), NONE);
+        self.scratch.pairing.u_seen.clear();
+        self.scratch.pairing.u_seen.resize(u_wedges.len(), false);
         let ku = self.kind[ui];
         let kv = self.kind[vi];
         if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
             // The common case needs no scan: one wedge each pairs trivially, and an interior u
             // has no line to stay on. Whether the edge still exists is checked before applying.
-            self.u_pair[0] = 0;
-            self.u_seen[0] = true;
-            self.v_partner.clear();
-            self.v_partner.push(0);
+            self.scratch.pairing.u_pair[0] = 0;
+            self.scratch.pairing.u_seen[0] = true;
+            self.scratch.pairing.v_partner.clear();
+            self.scratch.pairing.v_partner.push(0);
             self.stats.pricings += 1;
             return self.price(u, v, ku, kv, false);
         }
@@ -63,7 +63,7 @@ impl Engine<'_> {
         for corner in self.lists.iter(u) {
             let wu = self.corner_wedge[corner as usize];
             let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
-            self.u_seen[iu] = true;
+            self.scratch.pairing.u_seen[iu] = true;
             let (n, p) = other_corners(corner);
             let v_corner = if self.class_at(n) == v {
                 n
@@ -75,9 +75,9 @@ impl Engine<'_> {
             edge_triangles += 1;
             let wv = self.corner_wedge[v_corner as usize];
             let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
-            if self.u_pair[iu] == NONE {
-                self.u_pair[iu] = iv;
-            } else if self.u_pair[iu] != iv {
+            if self.scratch.pairing.u_pair[iu] == NONE {
+                self.scratch.pairing.u_pair[iu] = iv;
+            } else if self.scratch.pairing.u_pair[iu] != iv {
                 return None; // one wedge of u would have to follow two wedges of v
             }
             let material = self.materials.get(corner as usize / 3).copied().unwrap_or(0);
@@ -99,17 +99,17 @@ impl Engine<'_> {
         // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
         // ends there) but never merge the two sides of a seam.
         // Every used wedge of u needs its own wedge of v: no seam opens or closes.
-        self.v_partner.clear();
-        self.v_partner.resize(v_wedges.len(), NONE);
+        self.scratch.pairing.v_partner.clear();
+        self.scratch.pairing.v_partner.resize(v_wedges.len(), NONE);
         for iu in 0..u_wedges.len() {
-            if !self.u_seen[iu] {
+            if !self.scratch.pairing.u_seen[iu] {
                 continue;
             }
-            let iv = self.u_pair[iu];
-            if iv == NONE || self.v_partner[iv as usize] != NONE {
+            let iv = self.scratch.pairing.u_pair[iu];
+            if iv == NONE || self.scratch.pairing.v_partner[iv as usize] != NONE {
                 return None;
             }
-            self.v_partner[iv as usize] = iu as u32;
+            self.scratch.pairing.v_partner[iv as usize] = iu as u32;
         }
         self.stats.pricings += 1;
         self.price(u, v, ku, kv, material_edge)
@@ -190,7 +190,7 @@ impl Engine<'_> {
         let stride = self.priced.stride();
         let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
         for (iv, &wv) in v_wedges.iter().enumerate() {
-            let partner = self.v_partner[iv];
+            let partner = self.scratch.pairing.v_partner[iv];
             let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
