@@ -5,8 +5,10 @@
 
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::{CollapseMode, Schedule};
+use super::mesh::Mesh;
+use super::scratch::Pairing;
 use super::{Engine, Plan};
-use crate::progressive::{RawCornerChange, RawStep};
+use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
 
 impl Engine<'_> {
@@ -21,7 +23,7 @@ impl Engine<'_> {
         if cost == queued {
             return Some(plan);
         }
-        if self.vanishing_corner(u, v).is_some() {
+        if self.mesh.vanishing_corner(u, v).is_some() {
             // Cheaper than queued, it is still the cheapest: everything else in line costs at
             // least what it was queued at.
             if cost < queued {
@@ -36,11 +38,11 @@ impl Engine<'_> {
     /// level, the merged vertex tracking it; a part that vanishes with it leaves the clearance,
     /// and its farthest input points to the nearest parts left (`clearance.rs`).
     pub(super) fn commit(&mut self, plan: &Plan, farthest: u32, distance: f64) {
-        let vanishing = self.vanishing_corner(plan.u, plan.v).is_some();
+        let vanishing = self.mesh.vanishing_corner(plan.u, plan.v).is_some();
         self.apply(plan);
         self.farthest_input[plan.v as usize] = farthest;
         if vanishing {
-            self.clearance.vanish(&self.classes, plan.u, self.max_distance as f32);
+            self.clearance.vanish(&self.mesh.classes, plan.u, self.max_distance as f32);
         }
         self.reach(distance);
     }
@@ -58,7 +60,7 @@ impl Engine<'_> {
     /// that parts still vanish, nearest first, where nothing else moves (a model of flat plates
     /// alone). Whether one was waiting.
     pub(super) fn reach_nearest_waiting(&mut self) -> bool {
-        let alive = &self.alive;
+        let alive = &self.mesh.alive;
         let nearest = {
             let mut waiting = self.waiting_vanishings.borrow_mut();
             waiting.retain(|&(_, a, b)| alive[a as usize] && alive[b as usize]);
@@ -80,7 +82,7 @@ impl Engine<'_> {
             self.waiting_vanishings.take().into_iter().partition(|&(reach, ..)| reach <= distance);
         self.waiting_vanishings.replace(still);
         for (_, a, b) in due {
-            if self.alive[a as usize] && self.alive[b as usize] {
+            if self.mesh.alive[a as usize] && self.mesh.alive[b as usize] {
                 self.requeue(a, b);
             }
         }
@@ -91,7 +93,13 @@ impl Engine<'_> {
     pub(super) fn apply(&mut self, plan: &Plan) {
         let step = self.log.steps.len() as u32 + 1;
         let (first_new, new_count) = self.merge_wedges(plan, step);
-        let thirds = self.move_corners(plan.u, plan.v, step);
+        let thirds = self.mesh.move_corners(
+            &self.scratch.pairing,
+            &mut self.log,
+            &self.vertex_id,
+            (plan.u, plan.v),
+            step,
+        );
         self.merge_classes(plan, first_new, new_count);
         self.requeue_neighbours(plan.v, thirds);
     }
@@ -103,12 +111,12 @@ impl Engine<'_> {
         let (ui, vi) = (u as usize, v as usize);
         let m = self.channels;
         let stride = self.priced.stride();
-        let moved = p != self.position[vi];
+        let moved = p != self.mesh.position[vi];
         let first_new = self.log.positions.len() as u32;
-        let u_range = self.class_wedges(ui);
-        let v_range = self.class_wedges(vi);
-        let pv = self.position[vi];
-        let pu = self.position[ui];
+        let u_range = self.mesh.class_wedges(ui);
+        let v_range = self.mesh.class_wedges(vi);
+        let pv = self.mesh.position[vi];
+        let pu = self.mesh.position[ui];
         let edge = pu - pv;
         let t = if edge.length_squared() > 0.0 {
             ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
@@ -116,12 +124,12 @@ impl Engine<'_> {
             0.0
         };
         for (iv, k) in v_range.clone().enumerate() {
-            let wv = self.classes.wedges[k] as usize;
+            let wv = self.mesh.classes.wedges[k] as usize;
             let partner = self.scratch.pairing.v_partner[iv];
             let wu = if partner == NONE {
                 usize::MAX
             } else {
-                self.classes.wedges[u_range.start + partner as usize] as usize
+                self.mesh.classes.wedges[u_range.start + partner as usize] as usize
             };
             if wu == usize::MAX && !moved {
                 continue;
@@ -176,58 +184,12 @@ impl Engine<'_> {
         let new_count = self.log.positions.len() as u32 - first_new;
         // Wedges of u that no live triangle uses any more end here too.
         for (iu, k) in u_range.clone().enumerate() {
-            let wu = self.classes.wedges[k] as usize;
+            let wu = self.mesh.classes.wedges[k] as usize;
             if !self.scratch.pairing.u_seen[iu] && new_count > 0 {
                 self.log.parent[self.vertex_id[wu] as usize] = first_new;
             }
         }
         (first_new, new_count)
-    }
-
-    /// Triangles: those on the edge `u`–`v` die at `step`, the others move their `u` corner to
-    /// `v`'s wedge; returns the classes opposite the edge (NONE where there is none).
-    fn move_corners(&mut self, u: u32, v: u32, step: u32) -> [u32; 2] {
-        let u_range = self.class_wedges(u as usize);
-        let v_range = self.class_wedges(v as usize);
-        let mut thirds = [NONE; 2];
-        let mut dead_triangles = [NONE; 2];
-        let mut dead = 0;
-        for corner in self.lists.iter(u) {
-            let ci = corner as usize;
-            let (n, pc) = other_corners(corner);
-            let (a, b) = (self.class_at(n), self.class_at(pc));
-            if a == v || b == v {
-                self.triangle_alive[ci / 3] = false;
-                self.log.triangle_death[ci / 3] = step;
-                self.live_triangles -= 1;
-                if dead < 2 {
-                    thirds[dead] = if a == v { b } else { a };
-                    dead_triangles[dead] = corner / 3;
-                }
-                dead += 1;
-                continue;
-            }
-            let wu = self.corner_wedge[ci];
-            let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
-            let wv = self.classes.wedges[v_range.start + self.scratch.pairing.u_pair[iu] as usize];
-            self.corner_wedge[ci] = wv;
-            self.corner_class[ci] = v;
-            self.log.corner_changes.push(RawCornerChange {
-                corner,
-                from_vertex: self.vertex_id[wu as usize],
-                to_vertex: self.vertex_id[wv as usize],
-            });
-        }
-        // A checked collapse has at most two triangles on its edge.
-        debug_assert!(dead <= 2);
-        self.lists.splice(u, v);
-        for t in dead_triangles.into_iter().filter(|&t| t != NONE) {
-            for corner in 3 * t..3 * t + 3 {
-                let c = self.class_at(corner);
-                self.lists.unlink(if c == u { v } else { c }, corner);
-            }
-        }
-        thirds
     }
 
     /// Class state: `v` takes `u`'s quadrics and the new position, `u` dies, both versions move
@@ -242,27 +204,27 @@ impl Engine<'_> {
         let tu = self.total[ui];
         self.total[vi] += &tu;
         // A hard corner that moves is no longer one.
-        self.hard_corner[vi] &= self.position[vi] == p;
-        self.position[vi] = p;
+        self.mesh.hard_corner[vi] &= self.mesh.position[vi] == p;
+        self.mesh.position[vi] = p;
         if !self.relaxed.is_empty() {
             self.relaxed[vi] = self.relaxed_quadric(vi);
         }
         // The survivor of a junction inherits its line ends or meeting lines: it stays put from
         // now on and collapses only under the junction rules (a stale interior or line kind
         // would let it drag those lines freely).
-        if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
-            self.kind[vi] = Kind::Junction;
+        if self.mesh.kind[ui] == Kind::Junction && self.mesh.kind[vi] != Kind::Locked {
+            self.mesh.kind[vi] = Kind::Junction;
         }
-        self.on_outline[vi] |= self.on_outline[ui];
-        self.alive[ui] = false;
-        self.merged_into[ui] = vi as u32;
-        self.version[ui] = self.version[ui].wrapping_add(1);
-        self.version[vi] = self.version[vi].wrapping_add(1);
+        self.mesh.on_outline[vi] |= self.mesh.on_outline[ui];
+        self.mesh.alive[ui] = false;
+        self.mesh.merged_into[ui] = vi as u32;
+        self.mesh.version[ui] = self.mesh.version[ui].wrapping_add(1);
+        self.mesh.version[vi] = self.mesh.version[vi].wrapping_add(1);
         self.failed_head[vi] = NONE; // every edge of v is queued again below
         self.log.steps.push(RawStep {
             cost: plan.mean_squared,
             distance,
-            triangles_after: self.live_triangles as u32,
+            triangles_after: self.mesh.live_triangles as u32,
             first_new_vertex: first_new,
             new_vertex_count: new_count,
             corner_changes_end: self.log.corner_changes.len() as u32,
@@ -284,18 +246,18 @@ impl Engine<'_> {
         // exact and stays.
         let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
         let mut second = std::mem::take(&mut self.scratch.second_neighbours);
-        self.neighbours_into(v, &mut neighbours);
+        self.mesh.neighbours_into(v, &mut self.scratch.marks, &mut neighbours);
         let is_third = |x: u32| x == thirds[0] || x == thirds[1];
         for &x in &neighbours {
             let xi = x as usize;
             let parked = self.failed_head[xi] != NONE;
-            if !parked && self.kind[xi] != Kind::Junction {
+            if !parked && self.mesh.kind[xi] != Kind::Junction {
                 continue;
             }
             if is_third(x) {
                 self.failed_head[xi] = NONE;
-                self.version[xi] = self.version[xi].wrapping_add(1);
-                self.neighbours_into(x, &mut second);
+                self.mesh.version[xi] = self.mesh.version[xi].wrapping_add(1);
+                self.mesh.neighbours_into(x, &mut self.scratch.marks, &mut second);
                 for &y in &second {
                     if y != v {
                         self.requeue(x, y);
@@ -303,7 +265,7 @@ impl Engine<'_> {
                 }
                 continue;
             }
-            self.neighbours_into(x, &mut second);
+            self.mesh.neighbours_into(x, &mut self.scratch.marks, &mut second);
             let stamp = self.scratch.marks.next_stamp();
             let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
             while record != NONE {
@@ -328,9 +290,60 @@ impl Engine<'_> {
         self.scratch.neighbours = neighbours;
         self.scratch.second_neighbours = second;
     }
+}
 
-    /// The range of class `c`'s wedges in `classes.wedges`.
-    fn class_wedges(&self, c: usize) -> std::ops::Range<usize> {
-        self.classes.wedge_start[c] as usize..self.classes.wedge_start[c + 1] as usize
+impl Mesh<'_> {
+    /// Triangles: those on the edge `u`–`v` die at `step`, the others move their `u` corner to
+    /// `v`'s wedge (as `pairing` pairs them), logged in `log` under the vertex ids `vertex_id`;
+    /// returns the classes opposite the edge (NONE where there is none).
+    fn move_corners(
+        &mut self,
+        pairing: &Pairing,
+        log: &mut CollapseLog,
+        vertex_id: &[u32],
+        (u, v): (u32, u32),
+        step: u32,
+    ) -> [u32; 2] {
+        let u_range = self.class_wedges(u as usize);
+        let v_range = self.class_wedges(v as usize);
+        let mut thirds = [NONE; 2];
+        let mut dead_triangles = [NONE; 2];
+        let mut dead = 0;
+        for corner in self.lists.iter(u) {
+            let ci = corner as usize;
+            let (n, pc) = other_corners(corner);
+            let (a, b) = (self.class_at(n), self.class_at(pc));
+            if a == v || b == v {
+                self.triangle_alive[ci / 3] = false;
+                log.triangle_death[ci / 3] = step;
+                self.live_triangles -= 1;
+                if dead < 2 {
+                    thirds[dead] = if a == v { b } else { a };
+                    dead_triangles[dead] = corner / 3;
+                }
+                dead += 1;
+                continue;
+            }
+            let wu = self.corner_wedge[ci];
+            let iu = self.classes.wedges[u_range.clone()].iter().position(|&w| w == wu).unwrap_or(0);
+            let wv = self.classes.wedges[v_range.start + pairing.u_pair[iu] as usize];
+            self.corner_wedge[ci] = wv;
+            self.corner_class[ci] = v;
+            log.corner_changes.push(RawCornerChange {
+                corner,
+                from_vertex: vertex_id[wu as usize],
+                to_vertex: vertex_id[wv as usize],
+            });
+        }
+        // A checked collapse has at most two triangles on its edge.
+        debug_assert!(dead <= 2);
+        self.lists.splice(u, v);
+        for t in dead_triangles.into_iter().filter(|&t| t != NONE) {
+            for corner in 3 * t..3 * t + 3 {
+                let c = self.class_at(corner);
+                self.lists.unlink(if c == u { v } else { c }, corner);
+            }
+        }
+        thirds
     }
 }

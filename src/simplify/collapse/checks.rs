@@ -18,6 +18,7 @@
 
 use super::super::clearance::PosesChecked;
 use super::super::topology::{other_corners, Kind, NONE};
+use super::mesh::Mesh;
 use super::{Engine, Plan};
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::DVec3;
@@ -39,35 +40,196 @@ const SEARCH_FROM: f64 = 0.1;
 const MAX_VOUCHERS: usize = 32;
 
 impl Engine<'_> {
-    /// Whether `u` and `v` share a constraint edge (one triangle, or two that differ in material
-    /// or wedges); non-manifold edges count as constraints.
-    fn edge_is_constraint(&self, a: u32, b: u32) -> bool {
-        let mut count = 0;
-        let mut first = (NONE, NONE, NONE);
-        for corner in self.lists.iter(a) {
+    /// The topological and geometric checks of a planned collapse: link condition, no duplicate
+    /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
+    /// the merged vertex is to track and its distance from the surface the collapse leaves (see
+    /// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
+    /// (`poses.rs`); `None` for an invalid one.
+    pub(super) fn check(&mut self, plan: &Plan) -> Option<(u32, f64)> {
+        let (u, v) = (plan.u, plan.v);
+        let stamp = self.scratch.marks.next_stamp();
+        for corner in self.mesh.lists.iter(v) {
             let (n, p) = other_corners(corner);
-            let b_corner = if self.class_at(n) == b {
-                n
-            } else if self.class_at(p) == b {
-                p
+            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
+            self.scratch.marks.set(a, stamp);
+            self.scratch.marks.set(b, stamp);
+        }
+        let mut opposite = [NONE; 2];
+        let mut count = 0;
+        for corner in self.mesh.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
+            let x = if a == v {
+                b
+            } else if b == v {
+                a
             } else {
                 continue;
             };
-            let side = (
-                self.corner_wedge[corner as usize],
-                self.corner_wedge[b_corner as usize],
-                self.materials.get(corner as usize / 3).copied().unwrap_or(0),
-            );
+            if count == 2 {
+                return None;
+            }
+            opposite[count] = x;
             count += 1;
-            if count == 1 {
-                first = side;
-            } else if side != first {
-                return true;
+        }
+        if count == 0 {
+            return None; // no longer an edge
+        }
+        if count == 2 && opposite[0] == opposite[1] {
+            // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
+            // standing alone may collapse; both triangles die and nothing of it is left to fold.
+            // One that would leave a point beyond the floor counts as infinitely far.
+            let sheet = [u, v, opposite[0]];
+            return self.mesh.is_lone(&sheet, 2).then(|| {
+                let distance = if self.vanishes_within_floor(sheet) { 0.0 } else { f64::INFINITY };
+                (self.farthest_input[v as usize], distance)
+            });
+        }
+        let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
+        for corner in self.mesh.lists.iter(u) {
+            let (n, p) = other_corners(corner);
+            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
+            if a == v || b == v {
+                continue;
+            }
+            // Link condition: u and v may only share the neighbours across the edge.
+            for x in [a, b] {
+                if self.scratch.marks.is_set(x, stamp) && !is_opposite(x) {
+                    return None;
+                }
+            }
+            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b),
+            // which is allowed only when the four are a lone tetrahedron (it becomes a sheet).
+            if is_opposite(a)
+                && is_opposite(b)
+                && self.mesh.has_triangle(v, a, b)
+                && !self.mesh.is_lone(&[u, v, a, b], 3)
+            {
+                return None;
             }
         }
-        count != 2
+        if count == 1 && self.mesh.lone_triangle_corner(u, v).is_some() {
+            // A lone open triangle: its part vanishes no farther from the level than the level
+            // has reached (its price, `plan.rs`), and within the floor in the other poses.
+            let reached = self.reached_distance;
+            let within =
+                self.open_part_within(u, reached).is_ok() && self.vanishes_within_floor_in_other_poses(u);
+            return Some((self.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
+        }
+        if self.mesh.kind[u as usize] != Kind::Interior {
+            for &x in &opposite[..count] {
+                // Two constraint edges of one triangle would merge into one, changing the
+                // number of lines at v and x (a line vertex would become a line end). Harmless
+                // when both are locked anyway: that only closes a chart corner or a border ear.
+                let both_locked = self.mesh.kind[v as usize].pinned() && self.mesh.kind[x as usize].pinned();
+                if !both_locked && self.mesh.edge_is_constraint(u, x) && self.mesh.edge_is_constraint(v, x) {
+                    return None;
+                }
+            }
+        }
+        let scratch = std::mem::take(&mut self.scratch.probe_triangles);
+        let ends = [u, v].map(|end| self.farthest_input[end as usize]);
+        let points = ends.map(|vertex| self.input_positions[vertex as usize].as_dvec3());
+        let posed = self.measures_in_poses(plan);
+        let mut probes = Probes::new(points, plan.p, self.max_distance, scratch, posed);
+        let unfolded = self.mesh.fan_unfolded(u, v, plan.p, &mut probes)
+            && if plan.p == self.mesh.position[v as usize] {
+                // v's triangles keep their corners: nothing to check, still surface to measure.
+                self.mesh.measure_fan(v, u, &mut probes);
+                true
+            } else {
+                self.mesh.fan_unfolded(v, u, plan.p, &mut probes)
+            };
+        let farthest = unfolded.then(|| {
+            let (k, distance) = probes.farthest();
+            let in_poses = if posed && probes.survivors && !(distance > self.max_distance) {
+                let mut old = std::mem::take(&mut self.scratch.posed_triangles);
+                let step = self.step_beyond_floor_in_poses(plan, &probes.triangles, &mut old);
+                self.scratch.posed_triangles = old;
+                step
+            } else {
+                0.0
+            };
+            (ends[k], distance.max(in_poses))
+        });
+        self.scratch.probe_triangles = probes.triangles;
+        farthest
     }
 
+    /// Whether a part vanishing with its last classes (`sheet`) leaves its input points within
+    /// the distance floor of the parts left, in every pose (`clearance.rs`): the floor for a part
+    /// that goes away whole. Its price (`vanishing_error` in `plan.rs`) is a mean over the
+    /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
+    /// the floor from everything left.
+    fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
+        self.clearance.leaves_within(
+            &self.mesh.classes,
+            sheet[0],
+            self.max_distance as f32,
+            PosesChecked::All,
+        )
+    }
+
+    /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
+    /// points within the distance floor of the other parts' input in the poses other than the
+    /// simplification pose (as a closed part). In the simplification pose the level is what is
+    /// left, and the part is measured against it ([`Engine::open_part_within`]).
+    fn vanishes_within_floor_in_other_poses(&self, class: u32) -> bool {
+        self.clearance.leaves_within(
+            &self.mesh.classes,
+            class,
+            self.max_distance as f32,
+            PosesChecked::OtherThanInput,
+        )
+    }
+
+    /// Whether every input point of class `class`'s open part (its own and those left to it) lies
+    /// within `bound` of the live triangles of the other parts, in the simplification pose:
+    /// `Ok`, or `Err` with the distance of the first point found farther (a lower bound of the
+    /// farthest one's), `None` when that one is beyond the floor.
+    pub(super) fn open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
+        // A vanishing is priced and then checked with nothing changed in between: ask once.
+        let key = (class, self.log.steps.len(), bound.to_bits());
+        if let Some((known, answer)) = self.last_open_part_within.get() {
+            if known == key {
+                return answer;
+            }
+        }
+        let answer = self.search_open_part_within(class, bound);
+        self.last_open_part_within.set(Some((key, answer)));
+        answer
+    }
+
+    fn search_open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
+        // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
+        // point within `bound − d` of it within `bound` too, and a search may stop at any
+        // triangle within `bound`.
+        let mut found: Vec<(DVec3, f64)> = Vec::new();
+        for vertex in self.clearance.points_of_part(&self.mesh.classes, class) {
+            let q = self.input_positions[vertex as usize].as_dvec3();
+            if found.iter().any(|&(p, d)| d + p.distance(q) <= bound) {
+                continue;
+            }
+            let distance = self.squared_to_level(class, q, self.max_distance, bound).ok_or(None)?.sqrt();
+            if distance > bound {
+                return Err(Some(distance));
+            }
+            if found.len() < MAX_VOUCHERS {
+                found.push((q, distance));
+            }
+        }
+        Ok(())
+    }
+
+    /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
+    pub(super) fn park(&mut self, c: u32, partner: u32) {
+        let record = self.failed.len() as u32;
+        self.failed.push((partner, self.failed_head[c as usize]));
+        self.failed_head[c as usize] = record;
+    }
+}
+
+impl Mesh<'_> {
     /// Whether triangle `t` is acceptable after the corners at class `moving` go to `p`: not
     /// degenerate, within ~90° of its input normal, and not turned by 90° or more in this step.
     fn triangle_ok(&self, t: usize, moving: u32, p: DVec3, probes: &mut Probes) -> bool {
@@ -101,122 +263,6 @@ impl Engine<'_> {
         true
     }
 
-    /// The topological and geometric checks of a planned collapse: link condition, no duplicate
-    /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
-    /// the merged vertex is to track and its distance from the surface the collapse leaves (see
-    /// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
-    /// (`poses.rs`); `None` for an invalid one.
-    pub(super) fn check(&mut self, plan: &Plan) -> Option<(u32, f64)> {
-        let (u, v) = (plan.u, plan.v);
-        let stamp = self.scratch.marks.next_stamp();
-        for corner in self.lists.iter(v) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.class_at(n), self.class_at(p));
-            self.scratch.marks.set(a, stamp);
-            self.scratch.marks.set(b, stamp);
-        }
-        let mut opposite = [NONE; 2];
-        let mut count = 0;
-        for corner in self.lists.iter(u) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.class_at(n), self.class_at(p));
-            let x = if a == v {
-                b
-            } else if b == v {
-                a
-            } else {
-                continue;
-            };
-            if count == 2 {
-                return None;
-            }
-            opposite[count] = x;
-            count += 1;
-        }
-        if count == 0 {
-            return None; // no longer an edge
-        }
-        if count == 2 && opposite[0] == opposite[1] {
-            // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
-            // standing alone may collapse; both triangles die and nothing of it is left to fold.
-            // One that would leave a point beyond the floor counts as infinitely far.
-            let sheet = [u, v, opposite[0]];
-            return self.is_lone(&sheet, 2).then(|| {
-                let distance = if self.vanishes_within_floor(sheet) { 0.0 } else { f64::INFINITY };
-                (self.farthest_input[v as usize], distance)
-            });
-        }
-        let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
-        for corner in self.lists.iter(u) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.class_at(n), self.class_at(p));
-            if a == v || b == v {
-                continue;
-            }
-            // Link condition: u and v may only share the neighbours across the edge.
-            for x in [a, b] {
-                if self.scratch.marks.is_set(x, stamp) && !is_opposite(x) {
-                    return None;
-                }
-            }
-            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b),
-            // which is allowed only when the four are a lone tetrahedron (it becomes a sheet).
-            if is_opposite(a)
-                && is_opposite(b)
-                && self.has_triangle(v, a, b)
-                && !self.is_lone(&[u, v, a, b], 3)
-            {
-                return None;
-            }
-        }
-        if count == 1 && self.lone_triangle_corner(u, v).is_some() {
-            // A lone open triangle: its part vanishes no farther from the level than the level
-            // has reached (its price, `plan.rs`), and within the floor in the other poses.
-            let reached = self.reached_distance;
-            let within =
-                self.open_part_within(u, reached).is_ok() && self.vanishes_within_floor_in_other_poses(u);
-            return Some((self.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
-        }
-        if self.kind[u as usize] != Kind::Interior {
-            for &x in &opposite[..count] {
-                // Two constraint edges of one triangle would merge into one, changing the
-                // number of lines at v and x (a line vertex would become a line end). Harmless
-                // when both are locked anyway: that only closes a chart corner or a border ear.
-                let both_locked = self.kind[v as usize].pinned() && self.kind[x as usize].pinned();
-                if !both_locked && self.edge_is_constraint(u, x) && self.edge_is_constraint(v, x) {
-                    return None;
-                }
-            }
-        }
-        let scratch = std::mem::take(&mut self.scratch.probe_triangles);
-        let ends = [u, v].map(|end| self.farthest_input[end as usize]);
-        let points = ends.map(|vertex| self.input_positions[vertex as usize].as_dvec3());
-        let posed = self.measures_in_poses(plan);
-        let mut probes = Probes::new(points, plan.p, self.max_distance, scratch, posed);
-        let unfolded = self.fan_unfolded(u, v, plan.p, &mut probes)
-            && if plan.p == self.position[v as usize] {
-                // v's triangles keep their corners: nothing to check, still surface to measure.
-                self.measure_fan(v, u, &mut probes);
-                true
-            } else {
-                self.fan_unfolded(v, u, plan.p, &mut probes)
-            };
-        let farthest = unfolded.then(|| {
-            let (k, distance) = probes.farthest();
-            let in_poses = if posed && probes.survivors && !(distance > self.max_distance) {
-                let mut old = std::mem::take(&mut self.scratch.posed_triangles);
-                let step = self.step_beyond_floor_in_poses(plan, &probes.triangles, &mut old);
-                self.scratch.posed_triangles = old;
-                step
-            } else {
-                0.0
-            };
-            (ends[k], distance.max(in_poses))
-        });
-        self.scratch.probe_triangles = probes.triangles;
-        farthest
-    }
-
     /// Whether every triangle around `moving` that survives the collapse with `other` (does not
     /// contain it) stays acceptable when `moving` goes to `p` (see [`Engine::triangle_ok`]).
     fn fan_unfolded(&self, moving: u32, other: u32, p: DVec3, probes: &mut Probes) -> bool {
@@ -246,88 +292,6 @@ impl Engine<'_> {
                 probes.measure(ProbeTriangle { corners, cross, length_squared, classes });
             }
         }
-    }
-
-    /// Whether a part vanishing with its last classes (`sheet`) leaves its input points within
-    /// the distance floor of the parts left, in every pose (`clearance.rs`): the floor for a part
-    /// that goes away whole. Its price (`vanishing_error` in `plan.rs`) is a mean over the
-    /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
-    /// the floor from everything left.
-    fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
-        self.clearance.leaves_within(&self.classes, sheet[0], self.max_distance as f32, PosesChecked::All)
-    }
-
-    /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
-    /// points within the distance floor of the other parts' input in the poses other than the
-    /// simplification pose (as a closed part). In the simplification pose the level is what is
-    /// left, and the part is measured against it ([`Engine::open_part_within`]).
-    fn vanishes_within_floor_in_other_poses(&self, class: u32) -> bool {
-        self.clearance.leaves_within(
-            &self.classes,
-            class,
-            self.max_distance as f32,
-            PosesChecked::OtherThanInput,
-        )
-    }
-
-    /// Whether every input point of class `class`'s open part (its own and those left to it) lies
-    /// within `bound` of the live triangles of the other parts, in the simplification pose:
-    /// `Ok`, or `Err` with the distance of the first point found farther (a lower bound of the
-    /// farthest one's), `None` when that one is beyond the floor.
-    pub(super) fn open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
-        // A vanishing is priced and then checked with nothing changed in between: ask once.
-        let key = (class, self.log.steps.len(), bound.to_bits());
-        if let Some((known, answer)) = self.last_open_part_within.get() {
-            if known == key {
-                return answer;
-            }
-        }
-        let answer = self.search_open_part_within(class, bound);
-        self.last_open_part_within.set(Some((key, answer)));
-        answer
-    }
-
-    fn search_open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
-        // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
-        // point within `bound − d` of it within `bound` too, and a search may stop at any
-        // triangle within `bound`.
-        let mut found: Vec<(DVec3, f64)> = Vec::new();
-        for vertex in self.clearance.points_of_part(&self.classes, class) {
-            let q = self.input_positions[vertex as usize].as_dvec3();
-            if found.iter().any(|&(p, d)| d + p.distance(q) <= bound) {
-                continue;
-            }
-            let distance = self.squared_to_level(class, q, self.max_distance, bound).ok_or(None)?.sqrt();
-            if distance > bound {
-                return Err(Some(distance));
-            }
-            if found.len() < MAX_VOUCHERS {
-                found.push((q, distance));
-            }
-        }
-        Ok(())
-    }
-
-    /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
-    pub(super) fn park(&mut self, c: u32, partner: u32) {
-        let record = self.failed.len() as u32;
-        self.failed.push((partner, self.failed_head[c as usize]));
-        self.failed_head[c as usize] = record;
-    }
-
-    /// Whether each of `classes` lies on exactly `corners` live triangles.
-    fn is_lone(&self, classes: &[u32], corners: usize) -> bool {
-        classes.iter().all(|&c| self.lists.iter(c).count() == corners)
-    }
-
-    /// Whether a live triangle has classes `c`, `a` and `b` (corner lists hold only live
-    /// triangles).
-    fn has_triangle(&self, c: u32, a: u32, b: u32) -> bool {
-        self.lists.iter(c).any(|corner| {
-            let (n, p) = other_corners(corner);
-            let (x, y) = (self.class_at(n), self.class_at(p));
-            (x == a && y == b) || (x == b && y == a)
-        })
     }
 }
 

@@ -57,6 +57,7 @@
 
 mod apply;
 mod checks;
+mod mesh;
 mod passes;
 mod plan;
 mod poses;
@@ -70,14 +71,12 @@ use super::channels::Channels;
 use super::clearance::Clearance;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
-use super::topology::{
-    classify, creases, other_corners, position_classes, Classification, CornerLists, Kind, PositionClasses,
-    NONE,
-};
+use super::topology::NONE;
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
 use glam::{DVec3, Vec3};
+use mesh::Mesh;
 use scratch::Scratch;
 use std::cell::{Cell, RefCell};
 
@@ -184,29 +183,10 @@ struct Engine<'a> {
     inverse_weights: Vec<f64>,
     /// Wedge sums of nothing: the partner of a wedge that merges with none.
     zero_sums: Vec<f64>,
-    materials: &'a [u32],
     mode: CollapseMode,
     channels: usize,
     normal_channel: Option<usize>,
-    // Static structure.
-    classes: PositionClasses,
-    kind: Vec<Kind>,
-    /// Per class: on an open border or material line (see [`Classification::on_outline`]); a
-    /// survivor inherits it.
-    on_outline: Vec<bool>,
-    /// Per class: a hard corner ([`hard_corners`]) that has not moved; a collapse into it keeps
-    /// its position (`plan.rs`).
-    hard_corner: Vec<bool>,
-    input_normal: Vec<DVec3>,
-    // Mesh state.
-    lists: CornerLists,
-    corner_wedge: Vec<u32>,
-    /// `classes.class_of[corner_wedge[corner]]`, kept beside it: the checks and plans ask for a
-    /// corner's class far more often than for its wedge, and one load is cheaper than two.
-    corner_class: Vec<u32>,
-    triangle_alive: Vec<bool>,
-    live_triangles: usize,
-    position: Vec<DVec3>,
+    mesh: Mesh<'a>,
     /// Geometric quadric per class (face and penalty planes).
     geometric: Vec<Quadric>,
     /// Geometric plus attribute quadric per class; its weight is the geometric weight.
@@ -221,10 +201,6 @@ struct Engine<'a> {
     wedge_sums: Vec<f64>,
     wedge_attributes: Vec<f32>,
     vertex_id: Vec<u32>,
-    alive: Vec<bool>,
-    /// Per class, the class it merged into ([`NONE`] while alive).
-    merged_into: Vec<u32>,
-    version: Vec<u32>,
     /// Per class, the head of its list of failed partners in `failed` (NONE: not parked).
     failed_head: Vec<u32>,
     /// Failed-edge records: (partner class, next record or NONE).
@@ -291,35 +267,14 @@ impl<'a> Engine<'a> {
 
     fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
         let positions = input.positions;
-        let indices = input.indices;
         let m = input.attribute_weights.len();
-        let triangle_count = indices.len() / 3;
-        let classes = position_classes(positions, indices);
+        let triangle_count = input.indices.len() / 3;
+        let (mesh, sides) = Mesh::new(input, options.normal_channel);
+        let classes = &mesh.classes;
         let class_count = classes.count();
-        let lists = CornerLists::new(|k| classes.class_of[indices[k] as usize], indices.len(), class_count);
-        // A seam creases where its wedges' normals differ; without a normal channel none does.
-        let normal = |vertex: u32, channel: usize| {
-            let at = vertex as usize * m + channel;
-            Vec3::from_slice(&input.attributes[at..at + 3])
-        };
-        let creased =
-            |a: u32, b: u32| options.normal_channel.is_some_and(|c| creases(normal(a, c), normal(b, c)));
-        let Classification { kinds: kind, on_outline, sides } =
-            classify(&classes, positions, &lists, indices, input.triangle_materials, creased);
-        let position: Vec<DVec3> =
-            classes.representative.iter().map(|&v| positions[v as usize].as_dvec3()).collect();
-        let corner_point = |corner: usize| positions[indices[corner] as usize].as_dvec3();
-        let input_normal: Vec<DVec3> = (0..triangle_count)
-            .map(|t| {
-                let (p0, p1, p2) = (corner_point(3 * t), corner_point(3 * t + 1), corner_point(3 * t + 2));
-                (p1 - p0).cross(p2 - p0).normalize_or_zero()
-            })
-            .collect();
-
-        let hard_corner = hard_corners(&classes, &lists, input, options.normal_channel, &input_normal);
-        let geometric = geometric_quadrics(&classes, input, &sides, &input_normal);
+        let geometric = geometric_quadrics(classes, input, &sides, &mesh.input_normal);
         let priced = Channels::new(input.attributes, input.attribute_weights);
-        let (appearance, wedge_sums) = attribute_quadrics(&classes, input, &priced);
+        let (appearance, wedge_sums) = attribute_quadrics(classes, input, &priced);
         let mut total = geometric.clone();
         for (t, a) in total.iter_mut().zip(&appearance) {
             *t += a;
@@ -347,25 +302,14 @@ impl<'a> Engine<'a> {
             input_positions: positions,
             other_poses: input.other_poses,
             max_distance: f64::from(options.max_distance),
-            clearance: Clearance::new(positions, indices, input.other_poses),
+            clearance: Clearance::new(positions, input.indices, input.other_poses),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
             zero_sums: vec![0.0; priced.stride()],
             priced,
-            materials: input.triangle_materials,
             mode: options.mode,
             channels: m,
             normal_channel: options.normal_channel,
-            kind,
-            on_outline,
-            hard_corner,
-            input_normal,
-            lists,
-            corner_wedge: indices.to_vec(),
-            corner_class: indices.iter().map(|&w| classes.class_of[w as usize]).collect(),
-            triangle_alive: vec![true; triangle_count],
-            live_triangles: triangle_count,
-            position,
             geometric,
             total,
             relaxed: Vec::new(),
@@ -373,12 +317,9 @@ impl<'a> Engine<'a> {
             wedge_sums,
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
-            alive: vec![true; class_count],
-            merged_into: vec![NONE; class_count],
             reached_distance: 0.0,
             waiting_vanishings: Default::default(),
             last_open_part_within: Cell::new(None),
-            version: vec![0; class_count],
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
             schedule: options.schedule,
@@ -390,29 +331,7 @@ impl<'a> Engine<'a> {
             scratch: Scratch::new(class_count, m),
             log,
             stats: PricingStats::default(),
-            classes,
-        }
-    }
-
-    #[inline]
-    fn class_at(&self, corner: u32) -> u32 {
-        self.corner_class[corner as usize]
-    }
-
-    /// The distinct neighbour classes of `c`, into `out` (cleared first).
-    fn neighbours_into(&mut self, c: u32, out: &mut Vec<u32>) {
-        out.clear();
-        let marks = &mut self.scratch.marks;
-        let stamp = marks.next_stamp();
-        marks.set(c, stamp);
-        for corner in self.lists.iter(c) {
-            let (n, p) = other_corners(corner);
-            for x in [self.corner_class[n as usize], self.corner_class[p as usize]] {
-                if !marks.is_set(x, stamp) {
-                    marks.set(x, stamp);
-                    out.push(x);
-                }
-            }
+            mesh,
         }
     }
 
@@ -425,18 +344,13 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// The version stamp of a candidate `u → v`.
-    fn stamp_of(&self, u: u32, v: u32) -> u32 {
-        stamp(self.version[u as usize], self.version[v as usize])
-    }
-
     fn queue_all_edges(&mut self) {
         if self.schedule == Schedule::Strict {
-            self.relaxed = (0..self.classes.count()).map(|c| self.relaxed_quadric(c)).collect();
+            self.relaxed = (0..self.mesh.classes.count()).map(|c| self.relaxed_quadric(c)).collect();
         }
         let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
-        for c in 0..self.classes.count() as u32 {
-            self.neighbours_into(c, &mut neighbours);
+        for c in 0..self.mesh.classes.count() as u32 {
+            self.mesh.neighbours_into(c, &mut self.scratch.marks, &mut neighbours);
             neighbours.retain(|&x| c < x);
             match self.schedule {
                 Schedule::Strict => self.queue_bounds(c, &neighbours),
@@ -457,15 +371,15 @@ impl<'a> Engine<'a> {
         } else {
             // Symmetric placements: both directions give the same point and cost; the end nearer
             // the new point survives (it keeps its skin weights), ties to the lower class id.
-            let du = (plan.p - self.position[u as usize]).length_squared();
-            let dv = (plan.p - self.position[v as usize]).length_squared();
+            let du = (plan.p - self.mesh.position[u as usize]).length_squared();
+            let dv = (plan.p - self.mesh.position[v as usize]).length_squared();
             if du < dv || (du == dv && u < v) {
                 (v, u)
             } else {
                 (u, v)
             }
         };
-        let candidate = Candidate::new(plan.cost as f32, u, v, self.stamp_of(u, v));
+        let candidate = Candidate::new(plan.cost as f32, u, v, self.mesh.stamp_of(u, v));
         match self.schedule {
             Schedule::Passes => self.candidates.push(candidate),
             Schedule::Strict => self.queue.push(candidate),
@@ -502,7 +416,7 @@ impl<'a> Engine<'a> {
         for &x in others {
             let mut sum = relaxed_v;
             sum += &self.relaxed[x as usize];
-            sums.push((sum, self.stamp_of(v.min(x), v.max(x))));
+            sums.push((sum, self.mesh.stamp_of(v.min(x), v.max(x))));
         }
         for (&x, (sum, stamp)) in others.iter().zip(&sums) {
             // Where the pair's planes leave a direction free (a flat or cylindrical patch, every
@@ -512,7 +426,7 @@ impl<'a> Engine<'a> {
             // coordinates), so the least value within that ball is a bound too.
             let mut error_bound = sum.minimum_lower_bound();
             if error_bound == 0.0 {
-                let (a, b) = (self.position[v as usize], self.position[x as usize]);
+                let (a, b) = (self.mesh.position[v as usize], self.mesh.position[x as usize]);
                 let (center, length) = (0.5 * (a + b), a.distance(b));
                 let radius = length + 1e-6 * (length + center.abs().max_element());
                 error_bound = sum.lower_bound_within(center, radius);
@@ -534,67 +448,4 @@ impl<'a> Engine<'a> {
             Schedule::Passes => self.pending.push((a.min(b), a.max(b))),
         }
     }
-}
-
-/// Two faces of a hard corner meet at a right angle or sharper: the cosine between their normals
-/// is below this (about 84°, with slack for modelling and rounding). A box's corners and edges
-/// are hard; a faceted organic shape such as Fox.glb has few such vertices, and those few are
-/// skinned (see [`hard_corners`]).
-const HARD_CORNER_COS: f64 = 0.1;
-
-/// Per class: whether it is a *hard corner*, where a collapse into it keeps its position instead
-/// of the quadric minimiser's (`plan.rs`). That is a faceted class (every wedge's normal is zero,
-/// see [`SimplifyOptions::normal_channel`]) whose triangles are all rigid
-/// ([`SimplifyInput::rigid_triangles`]) and two of which meet at [`HARD_CORNER_COS`] or sharper
-/// (found in two sweeps, which miss a pair only where no normal is that far from the one farthest
-/// from the first): a corner or edge of a rigid, flat-shaded mechanical part.
-///
-/// Why: merged, a hard-surface part's face planes have their minimiser inside the part (the
-/// midpoint of a box's edge between its two end caps), so free placement cuts the part's volume
-/// and the coarse level's surface leaves the input. On robot.glb at 82 triangles the level's
-/// distance to the input was 0.436 % of the diagonal against meshoptimizer's 0.351 % (which keeps
-/// input vertices), while the input's distance to the level was lower than meshoptimizer's (0.968
-/// against 1.026 %). Kept at their corners, the part's vertices stay on its surface. Where a
-/// triangle is skinned to several joints, the multi-pose planes place a vertex for every pose
-/// and free placement stays better: on Fox.glb (faceted, skinned) fixing every faceted vertex
-/// raised the mean ratio to meshoptimizer from 0.79 to 0.93, and fixing its sharp ones without
-/// the rigidity test made its 72-triangle level 8 % worse (bench/README.md, 2026-11-27 (day)).
-fn hard_corners(
-    classes: &PositionClasses,
-    lists: &CornerLists,
-    input: &SimplifyInput<'_>,
-    normal_channel: Option<usize>,
-    input_normal: &[DVec3],
-) -> Vec<bool> {
-    let (Some(channel), false) = (normal_channel, input.rigid_triangles.is_empty()) else {
-        return vec![false; classes.count()];
-    };
-    let stride = input.attribute_weights.len();
-    (0..classes.count() as u32)
-        .map(|c| {
-            let triangles = || lists.iter(c).map(|corner| corner as usize / 3);
-            let Some(first) = triangles().next().map(|t| input_normal[t]) else { return false };
-            if !(all_faceted(classes.wedges_of(c), input.attributes, stride, channel)
-                && triangles().all(|t| input.rigid_triangles[t]))
-            {
-                return false;
-            }
-            // Two sweeps, so a vertex with thousands of triangles costs thousands of products, not
-            // millions: the normal farthest from the first, then any normal that far from it. On a
-            // box's corner or edge the first sweep already finds a face at a right angle.
-            let normals = || triangles().map(|t| input_normal[t]);
-            let farthest = normals().min_by(|a, b| a.dot(first).total_cmp(&b.dot(first))).unwrap_or(first);
-            farthest.dot(first) < HARD_CORNER_COS || normals().any(|n| n.dot(farthest) < HARD_CORNER_COS)
-        })
-        .collect()
-}
-
-/// Whether every wedge of `wedges` is faceted: its normal (channel `channel` of its row of
-/// `stride` attributes) is zero, which the simplifier does not price (see `topology::creases`).
-/// Merged faceted wedges stay so.
-fn all_faceted(wedges: &[u32], attributes: &[f32], stride: usize, channel: usize) -> bool {
-    wedges.iter().all(|&w| {
-        let at = w as usize * stride + channel;
-        attributes[at..at + 3] == [0.0; 3]
-    })
 }

@@ -19,7 +19,7 @@
 
 use super::super::queue::Candidate;
 use super::super::StopReason;
-use super::{stamp, Engine, Progress};
+use super::{Engine, Progress};
 
 /// The pass's error goal is this many times the k-th cheapest candidate's cost: meshoptimizer's
 /// factor (commit bb419200, "tradeoff between quality … and number of passes"). Measured here
@@ -40,7 +40,7 @@ impl Engine<'_> {
         max_mean_squared_error: f32,
         progress: &mut dyn FnMut(f32),
     ) -> StopReason {
-        let mut reporter = Progress::new(self.live_triangles, target);
+        let mut reporter = Progress::new(self.mesh.live_triangles, target);
         // The costliest collapse so far (the running maximum the levels report).
         let mut running_max = 0.0f32;
         loop {
@@ -73,11 +73,8 @@ impl Engine<'_> {
 
     /// Drops the candidates whose classes died or changed since they were priced.
     fn pick(&mut self) {
-        let (alive, version) = (&self.alive, &self.version);
-        self.candidates.retain(|c| {
-            let (u, v) = (c.u() as usize, c.v as usize);
-            alive[u] && alive[v] && c.stamp() == stamp(version[u], version[v])
-        });
+        let mesh = &self.mesh;
+        self.candidates.retain(|c| mesh.is_current(c));
     }
 
     /// The pass's error goal: `GOAL_FACTOR` × the k-th cheapest candidate's cost, at least the
@@ -86,7 +83,7 @@ impl Engine<'_> {
     fn rank(&mut self, running_max: f32) -> f32 {
         self.keys.clear();
         self.keys.extend(self.candidates.iter().map(|c| c.cost().to_bits()));
-        let k = (self.live_triangles / RANK_DIVISOR).clamp(1, self.keys.len()) - 1;
+        let k = (self.mesh.live_triangles / RANK_DIVISOR).clamp(1, self.keys.len()) - 1;
         // Non-negative f32 bits order like the numbers.
         let (_, kth, _) = self.keys.select_nth_unstable(k);
         (f32::from_bits(*kth) * GOAL_FACTOR).max(running_max)
@@ -122,13 +119,13 @@ impl Engine<'_> {
         report: &mut dyn FnMut(usize),
     ) -> Option<StopReason> {
         for entry in batch {
-            report(self.live_triangles);
-            if target > 0 && self.live_triangles <= target {
+            report(self.mesh.live_triangles);
+            if target > 0 && self.mesh.live_triangles <= target {
                 return Some(StopReason::TargetReached);
             }
             let (u, v) = (entry.u(), entry.v);
             // A class that took part in a collapse of this pass is locked: its version moved on.
-            if !self.alive[u as usize] || !self.alive[v as usize] || entry.stamp() != self.stamp_of(u, v) {
+            if !self.mesh.is_current(entry) {
                 continue;
             }
             // Re-planning fills the pairing scratch `apply` uses; the cost is still exact (no end
@@ -153,7 +150,7 @@ impl Engine<'_> {
             self.commit(&plan, farthest, distance);
             *running_max = running_max.max(entry.cost());
         }
-        report(self.live_triangles);
+        report(self.mesh.live_triangles);
         None
     }
 

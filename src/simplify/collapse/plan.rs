@@ -18,7 +18,8 @@
 use super::super::quadric::Quadric;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::CollapseMode;
-use super::{all_faceted, Engine, Placement, Plan};
+use super::mesh::all_faceted;
+use super::{Engine, Placement, Plan};
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::DVec3;
 
@@ -35,17 +36,17 @@ impl Engine<'_> {
     /// wedges or NONE) for [`Engine::apply`].
     pub(super) fn plan(&mut self, u: u32, v: u32) -> Option<Plan> {
         let (ui, vi) = (u as usize, v as usize);
-        if u == v || !self.alive[ui] || !self.alive[vi] || self.kind[ui] == Kind::Locked {
+        if u == v || !self.mesh.alive[ui] || !self.mesh.alive[vi] || self.mesh.kind[ui] == Kind::Locked {
             return None;
         }
-        let u_wedges = self.classes.wedges_of(u);
-        let v_wedges = self.classes.wedges_of(v);
+        let u_wedges = self.mesh.classes.wedges_of(u);
+        let v_wedges = self.mesh.classes.wedges_of(v);
         self.scratch.pairing.u_pair.clear();
         self.scratch.pairing.u_pair.resize(u_wedges.len(), NONE);
         self.scratch.pairing.u_seen.clear();
         self.scratch.pairing.u_seen.resize(u_wedges.len(), false);
-        let ku = self.kind[ui];
-        let kv = self.kind[vi];
+        let ku = self.mesh.kind[ui];
+        let kv = self.mesh.kind[vi];
         if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
             // The common case needs no scan: one wedge each pairs trivially, and an interior u
             // has no line to stay on. Whether the edge still exists is checked before applying.
@@ -60,27 +61,27 @@ impl Engine<'_> {
         let mut first_side = (NONE, NONE, NONE);
         let mut constraint = false;
         let mut material_edge = false;
-        for corner in self.lists.iter(u) {
-            let wu = self.corner_wedge[corner as usize];
+        for corner in self.mesh.lists.iter(u) {
+            let wu = self.mesh.corner_wedge[corner as usize];
             let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
             self.scratch.pairing.u_seen[iu] = true;
             let (n, p) = other_corners(corner);
-            let v_corner = if self.class_at(n) == v {
+            let v_corner = if self.mesh.class_at(n) == v {
                 n
-            } else if self.class_at(p) == v {
+            } else if self.mesh.class_at(p) == v {
                 p
             } else {
                 continue;
             };
             edge_triangles += 1;
-            let wv = self.corner_wedge[v_corner as usize];
+            let wv = self.mesh.corner_wedge[v_corner as usize];
             let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
             if self.scratch.pairing.u_pair[iu] == NONE {
                 self.scratch.pairing.u_pair[iu] = iv;
             } else if self.scratch.pairing.u_pair[iu] != iv {
                 return None; // one wedge of u would have to follow two wedges of v
             }
-            let material = self.materials.get(corner as usize / 3).copied().unwrap_or(0);
+            let material = self.mesh.materials.get(corner as usize / 3).copied().unwrap_or(0);
             if edge_triangles == 1 {
                 first_side = (wu, wv, material);
             } else {
@@ -118,7 +119,7 @@ impl Engine<'_> {
     /// Whether every wedge of class `c` is faceted now (see `all_faceted`).
     fn is_faceted(&self, c: u32) -> bool {
         let Some(channel) = self.normal_channel else { return false };
-        all_faceted(self.classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
+        all_faceted(self.mesh.classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
     }
 
     /// Class `c`'s relaxed quadric: its total quadric with each wedge's attributes reduced out
@@ -126,7 +127,7 @@ impl Engine<'_> {
     pub(super) fn relaxed_quadric(&self, c: usize) -> Quadric {
         let mut relaxed = self.total[c];
         let stride = self.priced.stride();
-        for &w in self.classes.wedges_of(c as u32) {
+        for &w in self.mesh.classes.wedges_of(c as u32) {
             let sums = &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
             if !(sums[0] > 0.0) {
                 continue;
@@ -146,8 +147,8 @@ impl Engine<'_> {
     /// `material_edge`: the edge separates two materials.
     fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind, material_edge: bool) -> Option<Plan> {
         let (ui, vi) = (u as usize, v as usize);
-        let u_wedges = self.classes.wedges_of(u);
-        let v_wedges = self.classes.wedges_of(v);
+        let u_wedges = self.mesh.classes.wedges_of(u);
+        let v_wedges = self.mesh.classes.wedges_of(v);
 
         // Two vertices of a border or seam line, corners included, merge into a free point too:
         // the line's penalty planes keep it near the line (at a corner, the two lines' planes
@@ -172,14 +173,14 @@ impl Engine<'_> {
         // in `mod.rs`) from a faceted class, the survivor stays put: the merged planes' minimiser
         // would cut through the part.
         let placement = match (self.mode, ku, kv) {
-            _ if self.hard_corner[vi] && self.is_faceted(u) => Placement::Fixed,
+            _ if self.mesh.hard_corner[vi] && self.is_faceted(u) => Placement::Fixed,
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) if material_edge => Placement::Segment,
             (CollapseMode::Full, Kind::Line | Kind::Corner, Kind::Line | Kind::Corner) if !material_edge => {
                 Placement::Free
             }
             (CollapseMode::Full, Kind::Interior, Kind::Line | Kind::Corner | Kind::Junction)
-                if !self.on_outline[vi] =>
+                if !self.mesh.on_outline[vi] =>
             {
                 Placement::Free
             }
@@ -224,9 +225,9 @@ impl Engine<'_> {
             }
         }
         // Canonical order for the symmetric placements, so both directions agree bit for bit.
-        let (lo, hi) = (self.position[u.min(v) as usize], self.position[u.max(v) as usize]);
+        let (lo, hi) = (self.mesh.position[u.min(v) as usize], self.mesh.position[u.max(v) as usize]);
         let p = match placement {
-            Placement::Fixed => self.position[vi],
+            Placement::Fixed => self.mesh.position[vi],
             Placement::Segment => total.minimize_on_segment(lo, hi),
             Placement::Free => match total.minimize() {
                 // Beyond one edge length from the midpoint the minimiser has left the
@@ -240,7 +241,7 @@ impl Engine<'_> {
         // The order key is the area-weighted error (see the module docs); the floor and the
         // recorded error are its mean over the pair's own area.
         let mut error = total.error(p).max(0.0);
-        if let Some(x) = self.vanishing_corner(u, v) {
+        if let Some(x) = self.mesh.vanishing_corner(u, v) {
             error = error.max(self.vanishing_error(u, v, x));
         }
         let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
@@ -255,58 +256,6 @@ impl Engine<'_> {
         })
     }
 
-    /// The third corner `x` when `u`, `v` and `x` are a lone two-sided sheet (two live triangles
-    /// on the same three classes and nothing else around them), which the collapse of `u` into
-    /// `v` makes vanish; `None` otherwise.
-    fn lone_sheet_corner(&self, u: u32, v: u32) -> Option<u32> {
-        // Most pricings end here, without walking a list.
-        if !self.lists.has_two(u) || !self.lists.has_two(v) {
-            return None;
-        }
-        let mut third = NONE;
-        let mut count = 0;
-        for corner in self.lists.iter(u) {
-            let x = self.third_class(corner, v)?;
-            if count == 2 || (count == 1 && x != third) {
-                return None;
-            }
-            third = x;
-            count += 1;
-        }
-        (count == 2 && self.lists.has_two(third)).then_some(third)
-    }
-
-    /// The third corner `x` when the collapse of `u` into `v` makes a part vanish: `u`, `v` and
-    /// `x` are a lone two-sided sheet ([`Engine::lone_sheet_corner`]) or a lone open triangle
-    /// ([`Engine::lone_triangle_corner`]); `None` otherwise.
-    pub(super) fn vanishing_corner(&self, u: u32, v: u32) -> Option<u32> {
-        self.lone_sheet_corner(u, v).or_else(|| self.lone_triangle_corner(u, v))
-    }
-
-    /// The third corner `x` when `u`, `v` and `x` are a lone open triangle: the last triangle of
-    /// an open part, each corner on it alone; `None` otherwise.
-    pub(super) fn lone_triangle_corner(&self, u: u32, v: u32) -> Option<u32> {
-        if !self.lists.has_one(u) || !self.lists.has_one(v) {
-            return None;
-        }
-        let x = self.third_class(self.lists.iter(u).next()?, v)?;
-        self.lists.has_one(x).then_some(x)
-    }
-
-    /// The class of the third corner of `corner`'s triangle when one of its two other corners is
-    /// on class `v`; `None` when neither is.
-    fn third_class(&self, corner: u32, v: u32) -> Option<u32> {
-        let (n, q) = other_corners(corner);
-        let (a, b) = (self.class_at(n), self.class_at(q));
-        if a == v {
-            Some(b)
-        } else if b == v {
-            Some(a)
-        } else {
-            None
-        }
-    }
-
     /// The area-weighted error of a part that vanishes when the sheet `u`, `v`, `x` collapses:
     /// its area (every surface merged into the sheet) times the mean squared clearance of the
     /// sheet's corners, their distance to the input's other parts (`clearance.rs`). An open
@@ -317,16 +266,16 @@ impl Engine<'_> {
     /// alone in its mesh is priced by the sheet's own spread instead (the mean squared distance
     /// of its corners from their centroid): it leaves nothing behind.
     fn vanishing_error(&self, u: u32, v: u32, x: u32) -> f64 {
-        let corners = [u, v, x].map(|c| self.position[c as usize]);
+        let corners = [u, v, x].map(|c| self.mesh.position[c as usize]);
         let area: f64 = [u, v, x].iter().map(|&c| self.geometric[c as usize].weight).sum();
-        if self.lists.has_one(u) {
+        if self.mesh.lists.has_one(u) {
             return self.open_part_vanishing_error(u, v);
         }
         let clearance: Option<f64> = [u, v, x]
             .iter()
             .zip(corners)
             .map(|(&c, at)| {
-                self.clearance.squared_to_other_parts(&self.classes, c, at.as_vec3()).map(f64::from)
+                self.clearance.squared_to_other_parts(&self.mesh.classes, c, at.as_vec3()).map(f64::from)
             })
             .sum();
         let mean_squared = clearance.map(|sum| sum / 3.0).unwrap_or_else(|| {
@@ -362,14 +311,6 @@ impl Engine<'_> {
         }
     }
 
-    /// The class that class `c` has merged into, or `c` while it is alive.
-    fn live_class(&self, mut c: u32) -> u32 {
-        while self.merged_into[c as usize] != NONE {
-            c = self.merged_into[c as usize];
-        }
-        c
-    }
-
     /// The squared distance from `q` (in the simplification pose) to the nearest live triangle of
     /// another part than class `class`'s among those that now stand for the input triangles near
     /// `q` (the triangles around their corners' live classes), if one is within `radius`; the
@@ -380,18 +321,19 @@ impl Engine<'_> {
         // Near input triangles share corners, and at coarse levels live classes: each class's
         // triangles are tested once (of the first few classes; later ones are rarely repeats).
         let mut seen: Vec<u32> = Vec::new();
-        self.clearance.visit_near(&self.classes, class, q.as_vec3(), radius as f32, &mut |t| {
+        self.clearance.visit_near(&self.mesh.classes, class, q.as_vec3(), radius as f32, &mut |t| {
             for k in 0..3 {
-                let live = self.live_class(self.corner_class[3 * t as usize + k]);
+                let live = self.mesh.live_class(self.mesh.corner_class[3 * t as usize + k]);
                 if seen.contains(&live) {
                     continue;
                 }
                 if seen.len() < SEEN_CLASSES {
                     seen.push(live);
                 }
-                for corner in self.lists.iter(live) {
+                for corner in self.mesh.lists.iter(live) {
                     let first = 3 * (corner / 3) as usize;
-                    let [a, b, c] = [0, 1, 2].map(|j| self.position[self.corner_class[first + j] as usize]);
+                    let [a, b, c] =
+                        [0, 1, 2].map(|j| self.mesh.position[self.mesh.corner_class[first + j] as usize]);
                     best = best.min(closest_point_on_triangle_f64(q, a, b, c).distance_squared(q));
                 }
             }

@@ -125,10 +125,10 @@ impl Engine<'_> {
     fn posed_second_ring(&self, poses: &OtherPoses, plan: &Plan, f: usize, wide: &mut Vec<[DVec3; 3]>) {
         let mut ring: Vec<u32> = [plan.u, plan.v]
             .iter()
-            .flat_map(|&end| self.lists.iter(end))
+            .flat_map(|&end| self.mesh.lists.iter(end))
             .flat_map(|corner| {
                 let t = 3 * (corner / 3);
-                [t, t + 1, t + 2].map(|k| self.class_at(k))
+                [t, t + 1, t + 2].map(|k| self.mesh.class_at(k))
             })
             .collect();
         ring.sort_unstable();
@@ -140,18 +140,18 @@ impl Engine<'_> {
 
     /// The live triangles around class `c` as they are, in pose `f`, onto `out`.
     fn push_posed_fan(&self, poses: &OtherPoses, c: u32, f: usize, out: &mut Vec<[DVec3; 3]>) {
-        for corner in self.lists.iter(c) {
+        for corner in self.mesh.lists.iter(c) {
             let t = 3 * (corner / 3);
             out.push([t, t + 1, t + 2].map(|k| {
-                let corner_class = self.class_at(k);
-                self.posed_class(poses, corner_class, self.position[corner_class as usize], f)
+                let corner_class = self.mesh.class_at(k);
+                self.posed_class(poses, corner_class, self.mesh.position[corner_class as usize], f)
             }));
         }
     }
 
     fn posed_edge(&self, plan: &Plan) -> PosedEdge {
         let (u, v) = (plan.u as usize, plan.v as usize);
-        let (x_u, x_v) = (self.position[u], self.position[v]);
+        let (x_u, x_v) = (self.mesh.position[u], self.mesh.position[v]);
         let edge = x_v - x_u;
         let length_squared = edge.length_squared();
         let along = if length_squared > 0.0 {
@@ -159,7 +159,7 @@ impl Engine<'_> {
         } else {
             0.5
         };
-        let vertices = [u, v].map(|c| self.classes.representative[c] as usize);
+        let vertices = [u, v].map(|c| self.mesh.classes.representative[c] as usize);
         PosedEdge {
             p: plan.p,
             moves: [x_u - plan.p, x_v - plan.p],
@@ -171,7 +171,7 @@ impl Engine<'_> {
 
     /// Live class `c`, standing at `at` in the input pose, in pose `f`.
     fn posed_class(&self, poses: &OtherPoses, c: u32, at: DVec3, f: usize) -> DVec3 {
-        let vertex = self.classes.representative[c as usize] as usize;
+        let vertex = self.mesh.classes.representative[c as usize] as usize;
         at + shift(poses, vertex, self.input_positions[vertex].as_dvec3(), f)
     }
 }
