@@ -19,7 +19,7 @@
 //! which answer for them when they vanish in turn ([`Clearance::vanish`]).
 //!
 //! An open part (its last triangle) is measured against the live triangles of the parts left
-//! as well (`collapse/plan.rs`, `Engine::squared_to_level`): [`Clearance::visit_near`] finds the
+//! as well (`collapse/floors.rs`, `Floors::squared_to_level`): [`Clearance::visit_near`] finds the
 //! input triangles near a point, and the triangles now standing for them are tested.
 //!
 //! The index is built on the first query, so a mesh none of whose parts vanishes pays nothing:
@@ -33,7 +33,6 @@ use super::topology::{PositionClasses, NONE};
 use super::OtherPoses;
 use crate::metrics::closest_point_on_triangle;
 use glam::{IVec3, UVec3, Vec3};
-use std::cell::{OnceCell, RefCell};
 use std::collections::{HashMap, HashSet};
 
 /// A search stops once it has tested this many grid entries and found a triangle of another
@@ -69,20 +68,22 @@ const MAX_CELLS_PER_AXIS: u32 = 128;
 /// most this many entries per triangle.
 const MAX_CELLS_PER_TRIANGLE: u32 = 64;
 
-/// The input triangles, with their parts and the grid found on the first query.
+/// The input triangles, with their parts and the grid found on the first query. Queries take
+/// `&mut self`: the first builds the index, and answers are remembered.
 pub(super) struct Clearance<'a> {
     positions: &'a [Vec3],
     indices: &'a [u32],
     /// The input in other poses: a vanishing part's points are measured there too.
     other_poses: Option<OtherPoses<'a>>,
-    index: OnceCell<Index>,
+    /// The parts and their grid, built on the first query.
+    index: Option<Index>,
     /// Per other pose, its positions and their grid, built on the first measure of a vanishing.
-    posed: OnceCell<Vec<(Vec<Vec3>, Grid)>>,
+    posed: Option<Vec<(Vec<Vec3>, Grid)>>,
     /// The last answer per class, with the part it found: a sheet's three edges are priced with
     /// the same corners. Stale once that part has vanished.
-    answers: RefCell<HashMap<u32, (Vec3, Option<Found>)>>,
+    answers: HashMap<u32, (Vec3, Option<Found>)>,
     /// Parts found not to vanish within a limit (part, the limit's bits).
-    stranded: RefCell<HashSet<(u32, u32, PosesChecked)>>,
+    stranded: HashSet<(u32, u32, PosesChecked)>,
 }
 
 /// A search's answer: the squared distance to the nearest triangle found, and its part.
@@ -156,10 +157,10 @@ impl<'a> Clearance<'a> {
             positions,
             indices,
             other_poses,
-            index: OnceCell::new(),
-            posed: OnceCell::new(),
-            answers: RefCell::default(),
-            stranded: RefCell::default(),
+            index: None,
+            posed: None,
+            answers: HashMap::new(),
+            stranded: HashSet::new(),
         }
     }
 
@@ -168,28 +169,28 @@ impl<'a> Clearance<'a> {
     /// budget, [`MAX_VISITS`]), or `None` when the input has no other part. `classes` are the
     /// input's position classes (the same on every call).
     pub(super) fn squared_to_other_parts(
-        &self,
+        &mut self,
         classes: &PositionClasses,
         class: u32,
         q: Vec3,
     ) -> Option<f32> {
-        let index = self.index(classes);
-        if let Some(&(at, answer)) = self.answers.borrow().get(&class) {
+        let index = built(&mut self.index, classes, self.positions, self.indices);
+        if let Some(&(at, answer)) = self.answers.get(&class) {
             // Stale once the part it found has vanished.
             if at == q && answer.is_none_or(|(_, found)| !index.vanished[found as usize]) {
                 return answer.map(|(squared, _)| squared);
             }
         }
-        let answer =
-            self.search(index, (self.positions, &index.grid), q, index.class_part[class as usize], UNBOUNDED);
-        self.answers.borrow_mut().insert(class, (q, answer));
+        let part = index.class_part[class as usize];
+        let answer = index.search(self.indices, (self.positions, &index.grid), q, part, UNBOUNDED);
+        self.answers.insert(class, (q, answer));
         answer.map(|(squared, _)| squared)
     }
 
     /// The input points of class `class`'s part: its own (one per position class) and those
     /// vanished parts left to it.
-    pub(super) fn points_of_part(&self, classes: &PositionClasses, class: u32) -> Vec<u32> {
-        let index = self.index(classes);
+    pub(super) fn points_of_part(&mut self, classes: &PositionClasses, class: u32) -> Vec<u32> {
+        let index = built(&mut self.index, classes, self.positions, self.indices);
         index.points_of(index.class_part[class as usize]).collect()
     }
 
@@ -199,14 +200,14 @@ impl<'a> Clearance<'a> {
     /// search skips the triangles and stops at the shells beyond it, and once one is found, after
     /// [`MAX_VISITS`] entries, as [`Clearance::squared_to_other_parts`] does.
     pub(super) fn visit_near(
-        &self,
+        &mut self,
         classes: &PositionClasses,
         class: u32,
         q: Vec3,
         radius: f32,
         visit: &mut dyn FnMut(u32) -> f32,
     ) {
-        let index = self.index(classes);
+        let index = built(&mut self.index, classes, self.positions, self.indices);
         let grid = &index.grid;
         let part = index.class_part[class as usize];
         let within = radius * radius;
@@ -229,13 +230,13 @@ impl<'a> Clearance<'a> {
     /// is looked at only to `limit`, and only until one part is that near). Also when no other
     /// part is left: there is nothing to measure against.
     pub(super) fn leaves_within(
-        &self,
+        &mut self,
         classes: &PositionClasses,
         class: u32,
         limit: f32,
         checked: PosesChecked,
     ) -> bool {
-        let index = self.index(classes);
+        let index = built(&mut self.index, classes, self.positions, self.indices);
         let part = index.class_part[class as usize];
         if index.parts_left <= 1 {
             return true;
@@ -243,10 +244,12 @@ impl<'a> Clearance<'a> {
         // Parts only vanish and points are only left to a part, so one that is not within the
         // limit never will be (the limit is the run's floor): its sheet's other edges ask again.
         let key = (part, limit.to_bits(), checked);
-        if self.stranded.borrow().contains(&key) {
+        if self.stranded.contains(&key) {
             return false;
         }
-        let posed = self.posed.get_or_init(|| self.posed_grids(index));
+        let (positions, indices) = (self.positions, self.indices);
+        let posed =
+            self.posed.get_or_insert_with(|| posed_grids(self.other_poses, positions, indices, index));
         let input = std::iter::once((self.positions, &index.grid)).filter(|_| checked == PosesChecked::All);
         let mut poses = input.chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
         // A point within `d` of a part left puts every point within `limit − d` of it within
@@ -260,7 +263,7 @@ impl<'a> Clearance<'a> {
                 if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
                     return true;
                 }
-                let Some((squared, _)) = self.search(index, pose, q, part, (limit, 0.5 * limit)) else {
+                let Some((squared, _)) = index.search(indices, pose, q, part, (limit, 0.5 * limit)) else {
                     return false;
                 };
                 if found.len() < MAX_VOUCHERS {
@@ -270,7 +273,7 @@ impl<'a> Clearance<'a> {
             })
         });
         if !within {
-            self.stranded.borrow_mut().insert(key);
+            self.stranded.insert(key);
         }
         within
     }
@@ -283,7 +286,7 @@ impl<'a> Clearance<'a> {
     /// [`Clearance::leaves_within`] let it vanish) are looked for, and a point within a quarter
     /// of it of a part left may go to that part rather than the nearest.
     pub(super) fn vanish(&mut self, classes: &PositionClasses, class: u32, limit: f32) {
-        let index = self.index(classes);
+        let index = built(&mut self.index, classes, self.positions, self.indices);
         let part = index.class_part[class as usize];
         let mut extremes: Vec<(f32, u32)> = vec![(f32::NEG_INFINITY, NONE); 26];
         for vertex in index.points_of(part) {
@@ -303,11 +306,11 @@ impl<'a> Clearance<'a> {
             .filter_map(|&vertex| {
                 let q = self.positions[vertex as usize];
                 let near_enough = (limit, 0.25 * limit);
-                let (_, heir) = self.search(index, (self.positions, &index.grid), q, part, near_enough)?;
+                let (_, heir) =
+                    index.search(self.indices, (self.positions, &index.grid), q, part, near_enough)?;
                 Some((heir, vertex))
             })
             .collect();
-        let Some(index) = self.index.get_mut() else { return };
         if !std::mem::replace(&mut index.vanished[part as usize], true) {
             index.parts_left -= 1;
             index.live_triangles -= index.part_triangles[part as usize] as usize;
@@ -321,7 +324,7 @@ impl<'a> Clearance<'a> {
         // rebuild at most halves the triangles, so all of them cost a few builds of the first).
         if index.live_triangles > 0 && 2 * index.live_triangles < index.gridded_triangles {
             index.grid = index.grid_over(self.positions, self.indices);
-            if let Some(posed) = self.posed.get_mut() {
+            if let Some(posed) = self.posed.as_mut() {
                 for (positions, grid) in posed.iter_mut() {
                     *grid = index.grid_over(positions, self.indices);
                 }
@@ -329,74 +332,16 @@ impl<'a> Clearance<'a> {
             index.gridded_triangles = index.live_triangles;
         }
     }
+}
 
-    /// The input's positions in each other pose, and their grids.
-    fn posed_grids(&self, index: &Index) -> Vec<(Vec<Vec3>, Grid)> {
-        let Some(poses) = self.other_poses else { return Vec::new() };
-        (0..poses.count)
-            .map(|f| {
-                let positions: Vec<Vec3> =
-                    (0..self.positions.len()).map(|v| poses.positions[v * poses.count + f]).collect();
-                let grid = index.grid_over(&positions, self.indices);
-                (positions, grid)
-            })
-            .collect()
-    }
-
-    /// The parts and their grid, built on the first call.
-    fn index(&self, classes: &PositionClasses) -> &Index {
-        self.index.get_or_init(|| {
-            let class_part = parts(classes, self.indices);
-            let vertex_part: Vec<u32> = classes
-                .class_of
-                .iter()
-                .map(|&c| if c == NONE { NONE } else { class_part[c as usize] })
-                .collect();
-            let grid = Grid::new(self.positions, self.indices, |v| vertex_part[v as usize], |_| true);
-            let live_triangles = self.indices.len() / 3;
-            let mut part_triangles = vec![0u32; class_part.len()];
-            for t in self.indices.chunks_exact(3) {
-                part_triangles[vertex_part[t[0] as usize] as usize] += 1;
-            }
-            // Per part, its classes' representatives (one input vertex per position).
-            let mut point_start = vec![0u32; class_part.len() + 1];
-            for &part in &class_part {
-                point_start[part as usize + 1] += 1;
-            }
-            for k in 0..class_part.len() {
-                point_start[k + 1] += point_start[k];
-            }
-            let mut fill = point_start.clone();
-            let mut points = vec![0u32; class_part.len()];
-            for (class, &part) in class_part.iter().enumerate() {
-                points[fill[part as usize] as usize] = classes.representative[class];
-                fill[part as usize] += 1;
-            }
-            let vanished = vec![false; class_part.len()];
-            let parts_left = class_part.iter().enumerate().filter(|&(c, &part)| part == c as u32).count();
-            Index {
-                class_part,
-                vertex_part,
-                grid,
-                point_start,
-                points,
-                vanished,
-                left_to: HashMap::new(),
-                parts_left,
-                part_triangles,
-                live_triangles,
-                gridded_triangles: live_triangles,
-            }
-        })
-    }
-
+impl Index {
     /// The squared distance from `q` to the nearest triangle of a part that is neither `part` nor
     /// vanished, among the triangles of `grid` over `positions` (the input in one pose), and that
     /// triangle's part; only triangles nearer than `limit` (a distance) are looked for, and the
     /// search may stop at the first one nearer than `enough`. `None` when none is found.
     fn search(
         &self,
-        index: &Index,
+        indices: &[u32],
         (positions, grid): (&[Vec3], &Grid),
         q: Vec3,
         part: u32,
@@ -413,8 +358,8 @@ impl<'a> Clearance<'a> {
             let (centre, radius) = grid.sphere[t];
             let beyond = (centre.distance(q) - radius).max(0.0);
             let other = grid.part[t];
-            if other != part && beyond * beyond < best.0 && !index.vanished[other as usize] {
-                let [a, b, c] = [0, 1, 2].map(|k| positions[self.indices[3 * t + k] as usize]);
+            if other != part && beyond * beyond < best.0 && !self.vanished[other as usize] {
+                let [a, b, c] = [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
                 let squared = closest_point_on_triangle(q, a, b, c).distance_squared(q);
                 if squared < best.0 {
                     best = (squared, other);
@@ -432,6 +377,73 @@ impl<'a> Clearance<'a> {
         grid.search(q, start, limit_squared, &mut test);
         (best.1 != part).then_some(best)
     }
+}
+
+/// The input's positions in each other pose, and their grids.
+fn posed_grids(
+    other_poses: Option<OtherPoses<'_>>,
+    input: &[Vec3],
+    indices: &[u32],
+    index: &Index,
+) -> Vec<(Vec<Vec3>, Grid)> {
+    let Some(poses) = other_poses else { return Vec::new() };
+    (0..poses.count)
+        .map(|f| {
+            let positions: Vec<Vec3> =
+                (0..input.len()).map(|v| poses.positions[v * poses.count + f]).collect();
+            let grid = index.grid_over(&positions, indices);
+            (positions, grid)
+        })
+        .collect()
+}
+
+/// The parts and their grid in `index`, built on the first call.
+fn built<'i>(
+    index: &'i mut Option<Index>,
+    classes: &PositionClasses,
+    positions: &[Vec3],
+    indices: &[u32],
+) -> &'i mut Index {
+    index.get_or_insert_with(|| {
+        let class_part = parts(classes, indices);
+        let vertex_part: Vec<u32> =
+            classes.class_of.iter().map(|&c| if c == NONE { NONE } else { class_part[c as usize] }).collect();
+        let grid = Grid::new(positions, indices, |v| vertex_part[v as usize], |_| true);
+        let live_triangles = indices.len() / 3;
+        let mut part_triangles = vec![0u32; class_part.len()];
+        for t in indices.chunks_exact(3) {
+            part_triangles[vertex_part[t[0] as usize] as usize] += 1;
+        }
+        // Per part, its classes' representatives (one input vertex per position).
+        let mut point_start = vec![0u32; class_part.len() + 1];
+        for &part in &class_part {
+            point_start[part as usize + 1] += 1;
+        }
+        for k in 0..class_part.len() {
+            point_start[k + 1] += point_start[k];
+        }
+        let mut fill = point_start.clone();
+        let mut points = vec![0u32; class_part.len()];
+        for (class, &part) in class_part.iter().enumerate() {
+            points[fill[part as usize] as usize] = classes.representative[class];
+            fill[part as usize] += 1;
+        }
+        let vanished = vec![false; class_part.len()];
+        let parts_left = class_part.iter().enumerate().filter(|&(c, &part)| part == c as u32).count();
+        Index {
+            class_part,
+            vertex_part,
+            grid,
+            point_start,
+            points,
+            vanished,
+            left_to: HashMap::new(),
+            parts_left,
+            part_triangles,
+            live_triangles,
+            gridded_triangles: live_triangles,
+        }
+    })
 }
 
 /// The 26 directions from a cube's centre to its faces, edges and corners (not normalised: only
@@ -673,7 +685,7 @@ mod tests {
             }
         }
         let classes = position_classes(&positions, &indices);
-        let clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices, None);
         for k in 0..300 {
             let q = (random() - 0.25) * if k % 10 == 0 { 40.0 } else { 12.0 };
             let class = classes.class_of[indices[(k * 7) % indices.len()] as usize];
@@ -683,7 +695,7 @@ mod tests {
             assert_eq!(clearance.squared_to_other_parts(&classes, class, q), expected);
         }
         // A mesh of one part has no other part.
-        let one = Clearance::new(&positions[..3], &indices[..3], None);
+        let mut one = Clearance::new(&positions[..3], &indices[..3], None);
         assert_eq!(
             one.squared_to_other_parts(&position_classes(&positions[..3], &indices[..3]), 0, Vec3::ZERO),
             None
@@ -705,7 +717,7 @@ mod tests {
             indices.extend([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3].map(|k| k + base));
         }
         let classes = position_classes(&positions, &indices);
-        let clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices, None);
         for k in 0..50u32 {
             let class = classes.class_of[indices[k as usize * 12] as usize];
             let q = random();
@@ -755,29 +767,29 @@ mod tests {
         let classes = position_classes(&positions, &indices);
         let class = |part: u32| classes.class_of[3 * part as usize];
         let mut clearance = Clearance::new(&positions, &indices, Some(poses));
-        let squared_at = |clearance: &Clearance, part: u32| {
+        let squared_at = |clearance: &mut Clearance, part: u32| {
             clearance.squared_to_other_parts(&classes, class(part), positions[3 * part as usize])
         };
         // The farthest a part leaves a point: just within a limit, not within one a bit less.
-        let leaves = |clearance: &Clearance, part: u32, distance: f32| {
+        let leaves = |clearance: &mut Clearance, part: u32, distance: f32| {
             clearance.leaves_within(&classes, class(part), distance, PosesChecked::All)
                 && !clearance.leaves_within(&classes, class(part), distance * 0.999, PosesChecked::All)
         };
-        assert_eq!(squared_at(&clearance, 0), Some(1.0));
-        assert!(leaves(&clearance, 0, 1.0));
-        assert!(leaves(&clearance, 2, 3.0), "in the other pose");
+        assert_eq!(squared_at(&mut clearance, 0), Some(1.0));
+        assert!(leaves(&mut clearance, 0, 1.0));
+        assert!(leaves(&mut clearance, 2, 3.0), "in the other pose");
 
         // The middle part goes, leaving its points at x = 1 to the nearest part left, the first.
         clearance.vanish(&classes, class(1), 10.0);
-        assert_eq!(squared_at(&clearance, 0), Some(9.0));
-        assert!(leaves(&clearance, 2, 4.0));
+        assert_eq!(squared_at(&mut clearance, 0), Some(9.0));
+        assert!(leaves(&mut clearance, 2, 4.0));
         // The first part answers for them too: its own points stand 3 from the last part (4 in
         // the other pose), those left to it 2 (3).
-        assert!(leaves(&clearance, 0, 4.0));
+        assert!(leaves(&mut clearance, 0, 4.0));
 
         // Then the first goes: the last part is alone, with nothing left to measure against.
         clearance.vanish(&classes, class(0), 10.0);
-        assert_eq!(squared_at(&clearance, 2), None);
+        assert_eq!(squared_at(&mut clearance, 2), None);
         assert!(clearance.leaves_within(&classes, class(2), 0.0, PosesChecked::All));
     }
 
@@ -789,7 +801,7 @@ mod tests {
         let classes = position_classes(&positions, &indices);
         assert_eq!(classes.count(), 6, "the copy is layered apart");
         assert_eq!(parts(&classes, &indices), [0; 6]);
-        let clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices, None);
         assert_eq!(clearance.squared_to_other_parts(&classes, classes.class_of[3], Vec3::ZERO), None);
     }
 }

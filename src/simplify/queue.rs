@@ -21,12 +21,12 @@ pub(crate) struct Candidate {
     /// orders by (cost, scrambled u).
     key: u64,
     pub v: u32,
-    /// Low bits of both classes' versions when queued (see `Engine::stamp_of`), and
+    /// Low bits of both classes' versions when queued (see `Mesh::stamp_of`), and
     /// [`BOUND_FLAG`] for a bound.
     stamp: u32,
 }
 
-/// The stamp bit that marks a bound (versions keep the other 31 bits, see `Engine::stamp_of`).
+/// The stamp bit that marks a bound (versions keep the other 31 bits, see `Mesh::stamp_of`).
 pub(crate) const BOUND_FLAG: u32 = 1 << 31;
 
 impl Candidate {

@@ -40,9 +40,9 @@ impl Engine<'_> {
     pub(super) fn commit(&mut self, plan: &Plan, farthest: u32, distance: f64) {
         let vanishing = self.mesh.vanishing_corner(plan.u, plan.v).is_some();
         self.apply(plan);
-        self.farthest_input[plan.v as usize] = farthest;
+        self.floors.farthest_input[plan.v as usize] = farthest;
         if vanishing {
-            self.clearance.vanish(&self.mesh.classes, plan.u, self.max_distance as f32);
+            self.floors.clearance.vanish(&self.mesh.classes, plan.u, self.floors.max_distance as f32);
         }
         self.reach(distance);
     }
@@ -50,8 +50,8 @@ impl Engine<'_> {
     /// Records that the level has left an input point `distance` from it: the open parts
     /// waiting for the level to reach that far are priced again.
     fn reach(&mut self, distance: f64) {
-        if distance > self.reached_distance {
-            self.reached_distance = distance;
+        if distance > self.floors.reached_distance {
+            self.floors.reached_distance = distance;
             self.release_waiting(distance);
         }
     }
@@ -60,16 +60,10 @@ impl Engine<'_> {
     /// that parts still vanish, nearest first, where nothing else moves (a model of flat plates
     /// alone). Whether one was waiting.
     pub(super) fn reach_nearest_waiting(&mut self) -> bool {
-        let alive = &self.mesh.alive;
-        let nearest = {
-            let mut waiting = self.waiting_vanishings.borrow_mut();
-            waiting.retain(|&(_, a, b)| alive[a as usize] && alive[b as usize]);
-            waiting.iter().map(|&(reach, ..)| reach).min_by(f64::total_cmp)
-        };
-        let Some(nearest) = nearest else {
+        let Some(nearest) = self.floors.waiting.nearest(&self.mesh.alive) else {
             return false;
         };
-        self.reached_distance = self.reached_distance.max(nearest);
+        self.floors.reached_distance = self.floors.reached_distance.max(nearest);
         self.release_waiting(nearest);
         true
     }
@@ -78,10 +72,7 @@ impl Engine<'_> {
     fn release_waiting(&mut self, distance: f64) {
         // Taken out first: pricing one again may put it back (its points moved farther from the
         // level since it began waiting).
-        let (due, still): (Vec<_>, Vec<_>) =
-            self.waiting_vanishings.take().into_iter().partition(|&(reach, ..)| reach <= distance);
-        self.waiting_vanishings.replace(still);
-        for (_, a, b) in due {
+        for (_, a, b) in self.floors.waiting.take_due(distance) {
             if self.mesh.alive[a as usize] && self.mesh.alive[b as usize] {
                 self.requeue(a, b);
             }

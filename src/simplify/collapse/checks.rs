@@ -16,7 +16,6 @@
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::super::clearance::PosesChecked;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::mesh::Mesh;
 use super::{Engine, Plan};
@@ -35,10 +34,6 @@ const MIN_SIN_ANGLE: f64 = 1e-6;
 /// vertex stands for its distance from the surface (see [`Probes`]). Most collapses of a fine
 /// mesh move their ends less than that; at 0.5 CesiumMan's toes went again.
 const SEARCH_FROM: f64 = 0.1;
-/// Points whose distance from the live triangles [`Engine::open_part_vanishes_within_floor`]
-/// keeps to vouch for their neighbours (as `clearance.rs` does for the input's).
-const MAX_VOUCHERS: usize = 32;
-
 impl Engine<'_> {
     /// The topological and geometric checks of a planned collapse: link condition, no duplicate
     /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
@@ -81,8 +76,9 @@ impl Engine<'_> {
             // One that would leave a point beyond the floor counts as infinitely far.
             let sheet = [u, v, opposite[0]];
             return self.mesh.is_lone(&sheet, 2).then(|| {
-                let distance = if self.vanishes_within_floor(sheet) { 0.0 } else { f64::INFINITY };
-                (self.farthest_input[v as usize], distance)
+                let distance =
+                    if self.floors.vanishes_within_floor(&self.mesh, sheet) { 0.0 } else { f64::INFINITY };
+                (self.floors.farthest_input[v as usize], distance)
             });
         }
         let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
@@ -111,10 +107,14 @@ impl Engine<'_> {
         if count == 1 && self.mesh.lone_triangle_corner(u, v).is_some() {
             // A lone open triangle: its part vanishes no farther from the level than the level
             // has reached (its price, `plan.rs`), and within the floor in the other poses.
-            let reached = self.reached_distance;
-            let within =
-                self.open_part_within(u, reached).is_ok() && self.vanishes_within_floor_in_other_poses(u);
-            return Some((self.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
+            let reached = self.floors.reached_distance;
+            let steps = self.log.steps.len();
+            let within = self.floors.open_part_within(&self.mesh, steps, u, reached).is_ok()
+                && self.floors.vanishes_within_floor_in_other_poses(&self.mesh, u);
+            return Some((
+                self.floors.farthest_input[v as usize],
+                if within { reached } else { f64::INFINITY },
+            ));
         }
         if self.mesh.kind[u as usize] != Kind::Interior {
             for &x in &opposite[..count] {
@@ -128,10 +128,10 @@ impl Engine<'_> {
             }
         }
         let scratch = std::mem::take(&mut self.scratch.probe_triangles);
-        let ends = [u, v].map(|end| self.farthest_input[end as usize]);
-        let points = ends.map(|vertex| self.input_positions[vertex as usize].as_dvec3());
-        let posed = self.measures_in_poses(plan);
-        let mut probes = Probes::new(points, plan.p, self.max_distance, scratch, posed);
+        let ends = [u, v].map(|end| self.floors.farthest_input[end as usize]);
+        let points = ends.map(|vertex| self.floors.input_positions[vertex as usize].as_dvec3());
+        let posed = self.floors.measures_in_poses(&self.mesh, plan);
+        let mut probes = Probes::new(points, plan.p, self.floors.max_distance, scratch, posed);
         let unfolded = self.mesh.fan_unfolded(u, v, plan.p, &mut probes)
             && if plan.p == self.mesh.position[v as usize] {
                 // v's triangles keep their corners: nothing to check, still surface to measure.
@@ -142,9 +142,10 @@ impl Engine<'_> {
             };
         let farthest = unfolded.then(|| {
             let (k, distance) = probes.farthest();
-            let in_poses = if posed && probes.survivors && !(distance > self.max_distance) {
+            let in_poses = if posed && probes.survivors && !(distance > self.floors.max_distance) {
                 let mut old = std::mem::take(&mut self.scratch.posed_triangles);
-                let step = self.step_beyond_floor_in_poses(plan, &probes.triangles, &mut old);
+                let step =
+                    self.floors.step_beyond_floor_in_poses(&self.mesh, plan, &probes.triangles, &mut old);
                 self.scratch.posed_triangles = old;
                 step
             } else {
@@ -154,71 +155,6 @@ impl Engine<'_> {
         });
         self.scratch.probe_triangles = probes.triangles;
         farthest
-    }
-
-    /// Whether a part vanishing with its last classes (`sheet`) leaves its input points within
-    /// the distance floor of the parts left, in every pose (`clearance.rs`): the floor for a part
-    /// that goes away whole. Its price (`vanishing_error` in `plan.rs`) is a mean over the
-    /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
-    /// the floor from everything left.
-    fn vanishes_within_floor(&self, sheet: [u32; 3]) -> bool {
-        self.clearance.leaves_within(
-            &self.mesh.classes,
-            sheet[0],
-            self.max_distance as f32,
-            PosesChecked::All,
-        )
-    }
-
-    /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
-    /// points within the distance floor of the other parts' input in the poses other than the
-    /// simplification pose (as a closed part). In the simplification pose the level is what is
-    /// left, and the part is measured against it ([`Engine::open_part_within`]).
-    fn vanishes_within_floor_in_other_poses(&self, class: u32) -> bool {
-        self.clearance.leaves_within(
-            &self.mesh.classes,
-            class,
-            self.max_distance as f32,
-            PosesChecked::OtherThanInput,
-        )
-    }
-
-    /// Whether every input point of class `class`'s open part (its own and those left to it) lies
-    /// within `bound` of the live triangles of the other parts, in the simplification pose:
-    /// `Ok`, or `Err` with the distance of the first point found farther (a lower bound of the
-    /// farthest one's), `None` when that one is beyond the floor.
-    pub(super) fn open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
-        // A vanishing is priced and then checked with nothing changed in between: ask once.
-        let key = (class, self.log.steps.len(), bound.to_bits());
-        if let Some((known, answer)) = self.last_open_part_within.get() {
-            if known == key {
-                return answer;
-            }
-        }
-        let answer = self.search_open_part_within(class, bound);
-        self.last_open_part_within.set(Some((key, answer)));
-        answer
-    }
-
-    fn search_open_part_within(&self, class: u32, bound: f64) -> Result<(), Option<f64>> {
-        // As in `Clearance::leaves_within`: a point within `d` of a live triangle puts every
-        // point within `bound − d` of it within `bound` too, and a search may stop at any
-        // triangle within `bound`.
-        let mut found: Vec<(DVec3, f64)> = Vec::new();
-        for vertex in self.clearance.points_of_part(&self.mesh.classes, class) {
-            let q = self.input_positions[vertex as usize].as_dvec3();
-            if found.iter().any(|&(p, d)| d + p.distance(q) <= bound) {
-                continue;
-            }
-            let distance = self.squared_to_level(class, q, self.max_distance, bound).ok_or(None)?.sqrt();
-            if distance > bound {
-                return Err(Some(distance));
-            }
-            if found.len() < MAX_VOUCHERS {
-                found.push((q, distance));
-            }
-        }
-        Ok(())
     }
 
     /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
@@ -264,7 +200,7 @@ impl Mesh<'_> {
     }
 
     /// Whether every triangle around `moving` that survives the collapse with `other` (does not
-    /// contain it) stays acceptable when `moving` goes to `p` (see [`Engine::triangle_ok`]).
+    /// contain it) stays acceptable when `moving` goes to `p` (see [`Mesh::triangle_ok`]).
     fn fan_unfolded(&self, moving: u32, other: u32, p: DVec3, probes: &mut Probes) -> bool {
         self.lists.iter(moving).all(|corner| {
             let (n, q) = other_corners(corner);
@@ -295,7 +231,7 @@ impl Mesh<'_> {
     }
 }
 
-/// The input points the two ends of a collapse track (`Engine::farthest_input`) and their
+/// The input points the two ends of a collapse track (`Floors::farthest_input`) and their
 /// distance from the surface the collapse leaves, measured on its surviving triangles as `check`
 /// goes over them: the merged vertex tracks the farther one, and the collapse is skipped when
 /// that is beyond [`super::super::SimplifyOptions::max_distance`]. The mean squared error misses

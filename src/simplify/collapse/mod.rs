@@ -57,6 +57,7 @@
 
 mod apply;
 mod checks;
+mod floors;
 mod mesh;
 mod passes;
 mod plan;
@@ -68,17 +69,16 @@ mod strict;
 pub use stats::{pricing_stats, PricingStats};
 
 use super::channels::Channels;
-use super::clearance::Clearance;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
 use super::topology::NONE;
 use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
-use glam::{DVec3, Vec3};
+use floors::Floors;
+use glam::DVec3;
 use mesh::Mesh;
 use scratch::Scratch;
-use std::cell::{Cell, RefCell};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Placement {
@@ -221,37 +221,11 @@ struct Engine<'a> {
     log: CollapseLog,
     /// This run's counts, added to the process-wide ones at the end.
     stats: PricingStats,
-    /// Whether a collapse was skipped for exceeding the error limit.
-    over_floor: bool,
-    /// Per class: of the input vertices it stands for, the one farthest from the surface after
-    /// its last collapse (its representative until then); see `Probes` in `checks.rs`.
-    farthest_input: Vec<u32>,
-    /// The input positions ([`SimplifyInput::positions`]).
-    input_positions: &'a [Vec3],
-    /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`).
-    other_poses: Option<OtherPoses<'a>>,
-    /// [`SimplifyOptions::max_distance`].
-    max_distance: f64,
+    floors: Floors<'a>,
     /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
     /// average area.
     inverse_mean_pair_area: f64,
-    /// How far the input's other parts are, for pricing a part that vanishes.
-    clearance: Clearance<'a>,
-    /// The farthest a committed collapse has left an input point from the level so far, in the
-    /// simplification pose (an upper bound, see `Probes` in `checks.rs`), or the distance the
-    /// level was let reach when nothing else could collapse ([`Engine::reach_nearest_waiting`]).
-    reached_distance: f64,
-    /// Open parts whose vanishing would leave a point farther than `reached_distance`: (that
-    /// distance, the edge of their last triangle), priced again when the level reaches it
-    /// ([`Engine::reach`]).
-    waiting_vanishings: RefCell<Vec<(f64, u32, u32)>>,
-    /// The last [`Engine::open_part_within`] asked: (class, steps logged, bound's bits) and
-    /// its answer.
-    last_open_part_within: Cell<Option<OpenPartWithin>>,
 }
-
-/// A question [`Engine::open_part_within`] answered, and its answer.
-type OpenPartWithin = ((u32, usize, u64), Result<(), Option<f64>>);
 
 impl<'a> Engine<'a> {
     /// The order key of a collapse whose quadric error is `error` over a pair of area `weight`
@@ -297,12 +271,7 @@ impl<'a> Engine<'a> {
         let mean_pair_area =
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
         Engine {
-            over_floor: false,
-            farthest_input: classes.representative.clone(),
-            input_positions: positions,
-            other_poses: input.other_poses,
-            max_distance: f64::from(options.max_distance),
-            clearance: Clearance::new(positions, input.indices, input.other_poses),
+            floors: Floors::new(input, options, classes),
             inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
             zero_sums: vec![0.0; priced.stride()],
@@ -317,9 +286,6 @@ impl<'a> Engine<'a> {
             wedge_sums,
             wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
-            reached_distance: 0.0,
-            waiting_vanishings: Default::default(),
-            last_open_part_within: Cell::new(None),
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
             schedule: options.schedule,
@@ -332,15 +298,6 @@ impl<'a> Engine<'a> {
             log,
             stats: PricingStats::default(),
             mesh,
-        }
-    }
-
-    /// Why the run ended when no candidate is left: the error limit if it refused one.
-    fn exhausted(&self) -> StopReason {
-        if self.over_floor {
-            StopReason::MaxErrorReached
-        } else {
-            StopReason::NoValidCollapse
         }
     }
 

@@ -50,7 +50,7 @@ impl Engine<'_> {
                     self.update();
                     continue;
                 }
-                return self.exhausted();
+                return self.floors.exhausted();
             }
             let goal = self.rank(running_max);
             let first = self.sort(goal);
@@ -135,7 +135,7 @@ impl Engine<'_> {
                 continue;
             };
             if plan.mean_squared as f32 > max_mean_squared_error {
-                self.over_floor = true;
+                self.floors.over_floor = true;
                 continue;
             }
             let Some((farthest, distance)) = self.check(&plan) else {
@@ -143,8 +143,8 @@ impl Engine<'_> {
                 self.park(v, u);
                 continue;
             };
-            if distance > self.max_distance {
-                self.over_floor = true;
+            if distance > self.floors.max_distance {
+                self.floors.over_floor = true;
                 continue;
             }
             self.commit(&plan, farthest, distance);

@@ -20,12 +20,7 @@ use super::super::topology::{other_corners, Kind, NONE};
 use super::super::CollapseMode;
 use super::mesh::all_faceted;
 use super::{Engine, Placement, Plan};
-use crate::metrics::closest_point_on_triangle_f64;
 use glam::DVec3;
-
-/// Live classes whose triangles [`Engine::squared_to_level`] remembers having tested: enough for
-/// the few that stand for a coarse neighbourhood, few enough that looking them up stays cheap.
-const SEEN_CLASSES: usize = 64;
 
 impl Engine<'_> {
     /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
@@ -145,7 +140,7 @@ impl Engine<'_> {
 
     /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made;
     /// `material_edge`: the edge separates two materials.
-    fn price(&self, u: u32, v: u32, ku: Kind, kv: Kind, material_edge: bool) -> Option<Plan> {
+    fn price(&mut self, u: u32, v: u32, ku: Kind, kv: Kind, material_edge: bool) -> Option<Plan> {
         let (ui, vi) = (u as usize, v as usize);
         let u_wedges = self.mesh.classes.wedges_of(u);
         let v_wedges = self.mesh.classes.wedges_of(v);
@@ -265,7 +260,7 @@ impl Engine<'_> {
     /// vanished at robot.glb's 656-triangle level (4.1 % of the diagonal, Hausdorff). A part
     /// alone in its mesh is priced by the sheet's own spread instead (the mean squared distance
     /// of its corners from their centroid): it leaves nothing behind.
-    fn vanishing_error(&self, u: u32, v: u32, x: u32) -> f64 {
+    fn vanishing_error(&mut self, u: u32, v: u32, x: u32) -> f64 {
         let corners = [u, v, x].map(|c| self.mesh.position[c as usize]);
         let area: f64 = [u, v, x].iter().map(|&c| self.geometric[c as usize].weight).sum();
         if self.mesh.lists.has_one(u) {
@@ -275,7 +270,10 @@ impl Engine<'_> {
             .iter()
             .zip(corners)
             .map(|(&c, at)| {
-                self.clearance.squared_to_other_parts(&self.mesh.classes, c, at.as_vec3()).map(f64::from)
+                self.floors
+                    .clearance
+                    .squared_to_other_parts(&self.mesh.classes, c, at.as_vec3())
+                    .map(f64::from)
             })
             .sum();
         let mean_squared = clearance.map(|sum| sum / 3.0).unwrap_or_else(|| {
@@ -287,62 +285,23 @@ impl Engine<'_> {
 
     /// The error of an open part vanishing with its last triangle, `u`–`v`'s collapse: none
     /// beyond its plane quadric's once every point of the part lies within the distance the
-    /// level has already left some input point from it ([`Engine::open_part_within`]), so that
+    /// level has already left some input point from it ([`Floors::open_part_within`](super::floors::Floors::open_part_within)), so that
     /// its vanishing raises no distance the level has not reached. Until then the part waits
-    /// for the level to reach as far as its farthest point found ([`Engine::reach`] prices it
+    /// for the level to reach as far as its farthest point found (`Engine::reach` prices it
     /// again), and its collapse is not queued; beyond the floor it never goes. Priced instead by
     /// its area times its corners' mean squared distance from the level, at any reach, parts
     /// went later and kept triangles a bigger part's collapse would have bought more with; let
     /// go at a discount at any reach, one plate of parts.glb left its points farther from the
     /// 114-triangle level than anything else (bench/README.md, 2026-11-27, last run).
-    fn open_part_vanishing_error(&self, u: u32, v: u32) -> f64 {
-        match self.open_part_within(u, self.reached_distance) {
+    fn open_part_vanishing_error(&mut self, u: u32, v: u32) -> f64 {
+        let floors = &mut self.floors;
+        match floors.open_part_within(&self.mesh, self.log.steps.len(), u, floors.reached_distance) {
             Ok(()) => 0.0,
             Err(Some(farther)) => {
-                let edge = (u.min(v), u.max(v));
-                let mut waiting = self.waiting_vanishings.borrow_mut();
-                match waiting.iter_mut().find(|w| (w.1, w.2) == edge) {
-                    Some(known) => known.0 = farther,
-                    None => waiting.push((farther, edge.0, edge.1)),
-                }
+                floors.waiting.wait((u.min(v), u.max(v)), farther);
                 f64::INFINITY
             }
             Err(None) => f64::INFINITY,
         }
-    }
-
-    /// The squared distance from `q` (in the simplification pose) to the nearest live triangle of
-    /// another part than class `class`'s among those that now stand for the input triangles near
-    /// `q` (the triangles around their corners' live classes), if one is within `radius`; the
-    /// search may stop at one within `enough`. An upper bound of the distance to the level: a live
-    /// triangle that stands for input farther from `q` than the nearest found is not looked at.
-    pub(super) fn squared_to_level(&self, class: u32, q: DVec3, radius: f64, enough: f64) -> Option<f64> {
-        let mut best = f64::INFINITY;
-        // Near input triangles share corners, and at coarse levels live classes: each class's
-        // triangles are tested once (of the first few classes; later ones are rarely repeats).
-        let mut seen: Vec<u32> = Vec::new();
-        self.clearance.visit_near(&self.mesh.classes, class, q.as_vec3(), radius as f32, &mut |t| {
-            for k in 0..3 {
-                let live = self.mesh.live_class(self.mesh.corner_class[3 * t as usize + k]);
-                if seen.contains(&live) {
-                    continue;
-                }
-                if seen.len() < SEEN_CLASSES {
-                    seen.push(live);
-                }
-                for corner in self.mesh.lists.iter(live) {
-                    let first = 3 * (corner / 3) as usize;
-                    let [a, b, c] =
-                        [0, 1, 2].map(|j| self.mesh.position[self.mesh.corner_class[first + j] as usize]);
-                    best = best.min(closest_point_on_triangle_f64(q, a, b, c).distance_squared(q));
-                }
-            }
-            if best <= enough * enough {
-                0.0
-            } else {
-                best as f32
-            }
-        });
-        (best.is_finite() && best <= radius * radius).then_some(best)
     }
 }

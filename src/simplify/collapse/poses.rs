@@ -30,18 +30,20 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::checks::ProbeTriangle;
-use super::{Engine, OtherPoses, Plan};
+use super::floors::Floors;
+use super::mesh::Mesh;
+use super::{OtherPoses, Plan};
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::DVec3;
 
-impl Engine<'_> {
+impl Floors<'_> {
     /// Whether an end of `plan` moves farther than twice the floor in some pose: only then are
     /// points of its new triangles measured there (see the module docs).
-    pub(super) fn measures_in_poses(&self, plan: &Plan) -> bool {
+    pub(super) fn measures_in_poses(&self, mesh: &Mesh, plan: &Plan) -> bool {
         let Some(poses) = self.other_poses else {
             return false;
         };
-        let edge = self.posed_edge(plan);
+        let edge = self.posed_edge(mesh, plan);
         (0..poses.count).any(|f| edge.moves_beyond(&poses, f, 2.0 * self.max_distance))
     }
 
@@ -50,6 +52,7 @@ impl Engine<'_> {
     /// `old` is scratch.
     pub(super) fn step_beyond_floor_in_poses(
         &self,
+        mesh: &Mesh,
         plan: &Plan,
         triangles: &[ProbeTriangle],
         old: &mut Vec<[DVec3; 3]>,
@@ -65,7 +68,7 @@ impl Engine<'_> {
                     !(q.distance_squared(closest_point_on_triangle_f64(q, a, b, c)) > limit_squared)
                 })
         };
-        let edge = self.posed_edge(plan);
+        let edge = self.posed_edge(mesh, plan);
         for f in 0..poses.count {
             let moves = edge.end_moves_squared(&poses, f);
             if !(moves[0].max(moves[1]) > 4.0 * limit_squared) {
@@ -87,10 +90,10 @@ impl Engine<'_> {
                     continue;
                 }
                 if old.is_empty() {
-                    self.posed_fans(&poses, plan, f, old);
+                    self.posed_fans(mesh, &poses, plan, f, old);
                 }
                 let [a, b] = [(k + 1) % 3, (k + 2) % 3]
-                    .map(|j| self.posed_class(&poses, triangle.classes[j], triangle.corners[j], f));
+                    .map(|j| self.posed_class(mesh, &poses, triangle.classes[j], triangle.corners[j], f));
                 let centroid = (end_move_squared > 9.0 * limit_squared).then_some((merged + a + b) / 3.0);
                 for q in [Some((merged + a) / 2.0), Some((merged + b) / 2.0), centroid].into_iter().flatten()
                 {
@@ -98,7 +101,7 @@ impl Engine<'_> {
                         continue;
                     }
                     if wide.is_empty() {
-                        self.posed_second_ring(&poses, plan, f, &mut wide);
+                        self.posed_second_ring(mesh, &poses, plan, f, &mut wide);
                     }
                     if !within(q, &wide) {
                         let nearest = wide
@@ -114,44 +117,51 @@ impl Engine<'_> {
     }
 
     /// The triangles around `plan`'s ends as they are, in pose `f`, into `old`.
-    fn posed_fans(&self, poses: &OtherPoses, plan: &Plan, f: usize, old: &mut Vec<[DVec3; 3]>) {
+    fn posed_fans(&self, mesh: &Mesh, poses: &OtherPoses, plan: &Plan, f: usize, old: &mut Vec<[DVec3; 3]>) {
         for end in [plan.u, plan.v] {
-            self.push_posed_fan(poses, end, f, old);
+            self.push_posed_fan(mesh, poses, end, f, old);
         }
     }
 
     /// The triangles around every corner of the triangles around `plan`'s ends, as they are, in
     /// pose `f`, into `wide`.
-    fn posed_second_ring(&self, poses: &OtherPoses, plan: &Plan, f: usize, wide: &mut Vec<[DVec3; 3]>) {
+    fn posed_second_ring(
+        &self,
+        mesh: &Mesh,
+        poses: &OtherPoses,
+        plan: &Plan,
+        f: usize,
+        wide: &mut Vec<[DVec3; 3]>,
+    ) {
         let mut ring: Vec<u32> = [plan.u, plan.v]
             .iter()
-            .flat_map(|&end| self.mesh.lists.iter(end))
+            .flat_map(|&end| mesh.lists.iter(end))
             .flat_map(|corner| {
                 let t = 3 * (corner / 3);
-                [t, t + 1, t + 2].map(|k| self.mesh.class_at(k))
+                [t, t + 1, t + 2].map(|k| mesh.class_at(k))
             })
             .collect();
         ring.sort_unstable();
         ring.dedup();
         for &c in &ring {
-            self.push_posed_fan(poses, c, f, wide);
+            self.push_posed_fan(mesh, poses, c, f, wide);
         }
     }
 
     /// The live triangles around class `c` as they are, in pose `f`, onto `out`.
-    fn push_posed_fan(&self, poses: &OtherPoses, c: u32, f: usize, out: &mut Vec<[DVec3; 3]>) {
-        for corner in self.mesh.lists.iter(c) {
+    fn push_posed_fan(&self, mesh: &Mesh, poses: &OtherPoses, c: u32, f: usize, out: &mut Vec<[DVec3; 3]>) {
+        for corner in mesh.lists.iter(c) {
             let t = 3 * (corner / 3);
             out.push([t, t + 1, t + 2].map(|k| {
-                let corner_class = self.mesh.class_at(k);
-                self.posed_class(poses, corner_class, self.mesh.position[corner_class as usize], f)
+                let corner_class = mesh.class_at(k);
+                self.posed_class(mesh, poses, corner_class, mesh.position[corner_class as usize], f)
             }));
         }
     }
 
-    fn posed_edge(&self, plan: &Plan) -> PosedEdge {
+    fn posed_edge(&self, mesh: &Mesh, plan: &Plan) -> PosedEdge {
         let (u, v) = (plan.u as usize, plan.v as usize);
-        let (x_u, x_v) = (self.mesh.position[u], self.mesh.position[v]);
+        let (x_u, x_v) = (mesh.position[u], mesh.position[v]);
         let edge = x_v - x_u;
         let length_squared = edge.length_squared();
         let along = if length_squared > 0.0 {
@@ -159,7 +169,7 @@ impl Engine<'_> {
         } else {
             0.5
         };
-        let vertices = [u, v].map(|c| self.mesh.classes.representative[c] as usize);
+        let vertices = [u, v].map(|c| mesh.classes.representative[c] as usize);
         PosedEdge {
             p: plan.p,
             moves: [x_u - plan.p, x_v - plan.p],
@@ -170,8 +180,8 @@ impl Engine<'_> {
     }
 
     /// Live class `c`, standing at `at` in the input pose, in pose `f`.
-    fn posed_class(&self, poses: &OtherPoses, c: u32, at: DVec3, f: usize) -> DVec3 {
-        let vertex = self.mesh.classes.representative[c as usize] as usize;
+    fn posed_class(&self, mesh: &Mesh, poses: &OtherPoses, c: u32, at: DVec3, f: usize) -> DVec3 {
+        let vertex = mesh.classes.representative[c as usize] as usize;
         at + shift(poses, vertex, self.input_positions[vertex].as_dvec3(), f)
     }
 }

@@ -38,7 +38,7 @@ impl Engine<'_> {
                 if self.reach_nearest_waiting() {
                     continue;
                 }
-                return self.exhausted();
+                return self.floors.exhausted();
             };
             let (u, v) = (entry.u(), entry.v);
             if !self.mesh.is_current(&entry) {
@@ -56,7 +56,7 @@ impl Engine<'_> {
                 continue;
             };
             if plan.mean_squared as f32 > max_mean_squared_error {
-                self.over_floor = true;
+                self.floors.over_floor = true;
                 continue;
             }
             let Some((farthest, distance)) = self.check(&plan) else {
@@ -64,8 +64,8 @@ impl Engine<'_> {
                 self.park(v, u);
                 continue;
             };
-            if distance > self.max_distance {
-                self.over_floor = true;
+            if distance > self.floors.max_distance {
+                self.floors.over_floor = true;
                 continue;
             }
             self.commit(&plan, farthest, distance);
