@@ -100,8 +100,8 @@ impl Engine<'_> {
     fn merge_wedges(&mut self, plan: &Plan, step: u32) -> (u32, u32) {
         let (u, v, p) = (plan.u, plan.v, plan.p);
         let (ui, vi) = (u as usize, v as usize);
-        let m = self.channels;
-        let stride = self.priced.stride();
+        let m = self.costs.channels;
+        let stride = self.costs.priced.stride();
         let moved = p != self.mesh.position[vi];
         let first_new = self.log.positions.len() as u32;
         let u_range = self.mesh.class_wedges(ui);
@@ -127,33 +127,33 @@ impl Engine<'_> {
             }
             if wu != usize::MAX {
                 for k in 0..stride {
-                    self.wedge_sums[wv * stride + k] += self.wedge_sums[wu * stride + k];
+                    self.costs.wedge_sums[wv * stride + k] += self.costs.wedge_sums[wu * stride + k];
                 }
             }
             for j in 0..m {
-                let own = self.wedge_attributes[wv * m + j];
-                let priced = self.priced.source[j];
-                let w = priced.map_or(0.0, |k| self.priced.priced[k].1 as f64);
-                let alpha_w = self.wedge_sums[wv * stride] * w;
-                let value = if self.mode == CollapseMode::HalfEdge {
+                let own = self.costs.wedge_attributes[wv * m + j];
+                let priced = self.costs.priced.source[j];
+                let w = priced.map_or(0.0, |k| self.costs.priced.priced[k].1 as f64);
+                let alpha_w = self.costs.wedge_sums[wv * stride] * w;
+                let value = if self.costs.mode == CollapseMode::HalfEdge {
                     own
                 } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
                     let base = wv * stride + 1 + 4 * k;
                     let g = DVec3::new(
-                        self.wedge_sums[base],
-                        self.wedge_sums[base + 1],
-                        self.wedge_sums[base + 2],
+                        self.costs.wedge_sums[base],
+                        self.costs.wedge_sums[base + 1],
+                        self.costs.wedge_sums[base + 2],
                     );
-                    ((g.dot(p) + self.wedge_sums[base + 3]) / alpha_w) as f32
+                    ((g.dot(p) + self.costs.wedge_sums[base + 3]) / alpha_w) as f32
                 } else if wu != usize::MAX {
-                    let other = self.wedge_attributes[wu * m + j];
+                    let other = self.costs.wedge_attributes[wu * m + j];
                     (own as f64 + (other as f64 - own as f64) * t) as f32
                 } else {
                     own
                 };
                 self.scratch.new_attributes[j] = value;
             }
-            if let (Some(c), CollapseMode::Full) = (self.normal_channel, self.mode) {
+            if let (Some(c), CollapseMode::Full) = (self.costs.normal_channel, self.costs.mode) {
                 let normal = Vec3::from_slice(&self.scratch.new_attributes[c..c + 3]).normalize_or_zero();
                 if normal != Vec3::ZERO {
                     self.scratch.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
@@ -170,7 +170,7 @@ impl Engine<'_> {
                 self.log.parent[self.vertex_id[wu] as usize] = id;
             }
             self.vertex_id[wv] = id;
-            self.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.scratch.new_attributes);
+            self.costs.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.scratch.new_attributes);
         }
         let new_count = self.log.positions.len() as u32 - first_new;
         // Wedges of u that no live triangle uses any more end here too.
@@ -187,19 +187,10 @@ impl Engine<'_> {
     /// on (every candidate of either is stale); the step goes to the log.
     fn merge_classes(&mut self, plan: &Plan, first_new: u32, new_count: u32) {
         let (ui, vi, p) = (plan.u as usize, plan.v as usize, plan.p);
-        let mut geometric = self.geometric[ui];
-        geometric += &self.geometric[vi];
-        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
-        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
-        self.geometric[vi] = geometric;
-        let tu = self.total[ui];
-        self.total[vi] += &tu;
+        let distance = self.costs.merge_classes(&self.mesh.classes, ui, vi, p);
         // A hard corner that moves is no longer one.
         self.mesh.hard_corner[vi] &= self.mesh.position[vi] == p;
         self.mesh.position[vi] = p;
-        if !self.relaxed.is_empty() {
-            self.relaxed[vi] = self.relaxed_quadric(vi);
-        }
         // The survivor of a junction inherits its line ends or meeting lines: it stays put from
         // now on and collapses only under the junction rules (a stale interior or line kind
         // would let it drag those lines freely).

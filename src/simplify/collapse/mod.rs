@@ -24,7 +24,7 @@
 //! RiggedSimple, 0.67 → 0.55 on the built-in character and 1.52 → 1.25 on `parts.glb`, whose 57
 //! open plates of different sizes now go down unevenly, large ones keeping more triangles. The
 //! floor (`max_mean_squared_error`) and the recorded error stay RMS, so a level's error is still a distance.
-//! A pair smaller than [`SMALL_PAIR`] of the mean area is ordered as if it were that large, so a
+//! A pair smaller than [`SMALL_PAIR`](costs::SMALL_PAIR) of the mean area is ordered as if it were that large, so a
 //! small part does not go at several times the distance of the rest.
 //! Since the order is not the RMS order, a collapse over the floor is skipped rather than ending
 //! the run: the run ends when every collapse left is over it, as it did before. A second floor is
@@ -57,6 +57,7 @@
 
 mod apply;
 mod checks;
+mod costs;
 mod floors;
 mod mesh;
 mod passes;
@@ -68,13 +69,12 @@ mod strict;
 
 pub use stats::{pricing_stats, PricingStats};
 
-use super::channels::Channels;
 use super::quadric::Quadric;
 use super::queue::{Candidate, Queue};
 use super::topology::NONE;
-use super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
-use super::{CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
+use super::{OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
+use costs::Costs;
 use floors::Floors;
 use glam::DVec3;
 use mesh::Mesh;
@@ -106,19 +106,6 @@ struct Plan {
     mean_squared: f64,
     placement: Placement,
 }
-
-/// A pair smaller than this fraction of the mean pair area is ordered as if it had this
-/// fraction: its key is its mean squared error × `SMALL_PAIR`, as for a pair of that area.
-/// Ordering by the integral alone let a small part coarsen while its error was far larger than
-/// the rest's (a pair of a tenth of the mean area went at √10 × the distance of an average one):
-/// parts.glb's neck plates were 1.19 % of the diagonal off at its
-/// 228-triangle level (animated Hausdorff; meshoptimizer 0.81 %). With 0.3 a small pair goes at
-/// most √(1/0.3) ≈ 1.8 × an average pair's distance, and that level is 0.54 % off. Measured
-/// (`animated_error --detail --pose multi`, `bench/animated-vs-meshoptimizer.mjs`): 0.1 changes
-/// nothing; 0.3 improves CesiumMan's 10/5/1 % levels and Fox's 1 % by 1–4 % and changes no
-/// level for the worse by more than robot.glb's 656-triangle 0.016 → 0.017 %; 0.5, 1 and 2 make
-/// some levels of Fox, RiggedSimple or robot.glb worse by up to 80 %.
-const SMALL_PAIR: f64 = 0.3;
 
 /// How often a run reports progress: often enough for a smooth progress bar, rarely enough that
 /// the calls (into JavaScript, in the browser's worker) cost nothing measurable.
@@ -177,29 +164,10 @@ fn stamp(version_u: u32, version_v: u32) -> u32 {
 }
 
 struct Engine<'a> {
-    /// The priced attribute channels (see [`Channels`]).
-    priced: Channels,
-    /// `1 / weight` per priced channel.
-    inverse_weights: Vec<f64>,
-    /// Wedge sums of nothing: the partner of a wedge that merges with none.
-    zero_sums: Vec<f64>,
-    mode: CollapseMode,
-    channels: usize,
-    normal_channel: Option<usize>,
     mesh: Mesh<'a>,
-    /// Geometric quadric per class (face and penalty planes).
-    geometric: Vec<Quadric>,
-    /// Geometric plus attribute quadric per class; its weight is the geometric weight.
-    total: Vec<Quadric>,
-    /// Per class, [`Engine::relaxed_quadric`] (strict order only): the source of the bounds that
-    /// defer re-pricing.
-    relaxed: Vec<Quadric>,
+    costs: Costs,
     /// Scratch of [`Engine::queue_bounds`].
     bound_sums: Vec<(Quadric, u32)>,
-    /// Per wedge: `[Σ area, then per priced channel Σ area·w·g (3), Σ area·w·d]`, stride
-    /// `priced.stride()`.
-    wedge_sums: Vec<f64>,
-    wedge_attributes: Vec<f32>,
     vertex_id: Vec<u32>,
     /// Per class, the head of its list of failed partners in `failed` (NONE: not parked).
     failed_head: Vec<u32>,
@@ -222,23 +190,9 @@ struct Engine<'a> {
     /// This run's counts, added to the process-wide ones at the end.
     stats: PricingStats,
     floors: Floors<'a>,
-    /// `1 / (2 × mean class area)`: scales [`Plan::cost`] to a mean squared error for a pair of
-    /// average area.
-    inverse_mean_pair_area: f64,
 }
 
 impl<'a> Engine<'a> {
-    /// The order key of a collapse whose quadric error is `error` over a pair of area `weight`
-    /// (see the module docs): the error over the mean pair area, or for a pair smaller than
-    /// [`SMALL_PAIR`] of the mean, over its own area divided by `SMALL_PAIR`.
-    fn order_key(&self, error: f64, weight: f64) -> f64 {
-        if weight > 0.0 {
-            error * self.inverse_mean_pair_area.max(SMALL_PAIR / weight)
-        } else {
-            error * self.inverse_mean_pair_area
-        }
-    }
-
     fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
         let positions = input.positions;
         let m = input.attribute_weights.len();
@@ -246,14 +200,6 @@ impl<'a> Engine<'a> {
         let (mesh, sides) = Mesh::new(input, options.normal_channel);
         let classes = &mesh.classes;
         let class_count = classes.count();
-        let geometric = geometric_quadrics(classes, input, &sides, &mesh.input_normal);
-        let priced = Channels::new(input.attributes, input.attribute_weights);
-        let (appearance, wedge_sums) = attribute_quadrics(classes, input, &priced);
-        let mut total = geometric.clone();
-        for (t, a) in total.iter_mut().zip(&appearance) {
-            *t += a;
-        }
-
         let n = positions.len();
         let log = CollapseLog {
             positions: positions.to_vec(),
@@ -266,25 +212,10 @@ impl<'a> Engine<'a> {
             steps: Vec::new(),
             stop: StopReason::NoValidCollapse,
         };
-        // Face planes carry the area as weight (penalty planes none): a class's weight is its
-        // triangles' area.
-        let mean_pair_area =
-            2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / class_count.max(1) as f64;
+        let costs = Costs::new(classes, &sides, &mesh.input_normal, input, options);
         Engine {
             floors: Floors::new(input, options, classes),
-            inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
-            inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
-            zero_sums: vec![0.0; priced.stride()],
-            priced,
-            mode: options.mode,
-            channels: m,
-            normal_channel: options.normal_channel,
-            geometric,
-            total,
-            relaxed: Vec::new(),
             bound_sums: Vec::new(),
-            wedge_sums,
-            wedge_attributes: input.attributes.to_vec(),
             vertex_id: (0..n as u32).collect(),
             failed_head: vec![NONE; class_count],
             failed: Vec::new(),
@@ -298,12 +229,13 @@ impl<'a> Engine<'a> {
             log,
             stats: PricingStats::default(),
             mesh,
+            costs,
         }
     }
 
     fn queue_all_edges(&mut self) {
         if self.schedule == Schedule::Strict {
-            self.relaxed = (0..self.mesh.classes.count()).map(|c| self.relaxed_quadric(c)).collect();
+            self.costs.relax_all(&self.mesh.classes);
         }
         let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
         for c in 0..self.mesh.classes.count() as u32 {
@@ -369,10 +301,10 @@ impl<'a> Engine<'a> {
         // solve.
         let mut sums = std::mem::take(&mut self.bound_sums);
         sums.clear();
-        let relaxed_v = self.relaxed[v as usize];
+        let relaxed_v = self.costs.relaxed[v as usize];
         for &x in others {
             let mut sum = relaxed_v;
-            sum += &self.relaxed[x as usize];
+            sum += &self.costs.relaxed[x as usize];
             sums.push((sum, self.mesh.stamp_of(v.min(x), v.max(x))));
         }
         for (&x, (sum, stamp)) in others.iter().zip(&sums) {
@@ -390,7 +322,7 @@ impl<'a> Engine<'a> {
             }
             // The pair's area is the sum's (relaxing drops attribute planes, not area), so the
             // bound scales like the key.
-            let bound = self.order_key(error_bound, sum.weight) as f32;
+            let bound = self.costs.order_key(error_bound, sum.weight) as f32;
             self.queue.push(Candidate::bound(bound, v.min(x), v.max(x), *stamp));
         }
         self.stats.bounds += others.len() as u64;

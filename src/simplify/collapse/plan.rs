@@ -18,7 +18,6 @@
 use super::super::quadric::Quadric;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::CollapseMode;
-use super::mesh::all_faceted;
 use super::{Engine, Placement, Plan};
 use glam::DVec3;
 
@@ -111,33 +110,6 @@ impl Engine<'_> {
         self.price(u, v, ku, kv, material_edge)
     }
 
-    /// Whether every wedge of class `c` is faceted now (see `all_faceted`).
-    fn is_faceted(&self, c: u32) -> bool {
-        let Some(channel) = self.normal_channel else { return false };
-        all_faceted(self.mesh.classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
-    }
-
-    /// Class `c`'s relaxed quadric: its total quadric with each wedge's attributes reduced out
-    /// at that wedge's own optimum (see the module docs).
-    pub(super) fn relaxed_quadric(&self, c: usize) -> Quadric {
-        let mut relaxed = self.total[c];
-        let stride = self.priced.stride();
-        for &w in self.mesh.classes.wedges_of(c as u32) {
-            let sums = &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
-            if !(sums[0] > 0.0) {
-                continue;
-            }
-            let inverse_alpha = 1.0 / sums[0];
-            let mut optimum = Quadric::ZERO;
-            for (channel, &inverse_weight) in sums[1..].chunks_exact(4).zip(&self.inverse_weights) {
-                let g = DVec3::new(channel[0], channel[1], channel[2]);
-                optimum.add_optimal_attribute(g, channel[3], inverse_alpha * inverse_weight);
-            }
-            relaxed.subtract(&optimum);
-        }
-        relaxed
-    }
-
     /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made;
     /// `material_edge`: the edge separates two materials.
     fn price(&mut self, u: u32, v: u32, ku: Kind, kv: Kind, material_edge: bool) -> Option<Plan> {
@@ -167,8 +139,10 @@ impl Engine<'_> {
         // Onto a hard corner (a corner or edge of a rigid flat-shaded part, see `hard_corners`
         // in `mod.rs`) from a faceted class, the survivor stays put: the merged planes' minimiser
         // would cut through the part.
-        let placement = match (self.mode, ku, kv) {
-            _ if self.mesh.hard_corner[vi] && self.is_faceted(u) => Placement::Fixed,
+        let placement = match (self.costs.mode, ku, kv) {
+            _ if self.mesh.hard_corner[vi] && self.costs.is_faceted(&self.mesh.classes, u) => {
+                Placement::Fixed
+            }
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) if material_edge => Placement::Segment,
             (CollapseMode::Full, Kind::Line | Kind::Corner, Kind::Line | Kind::Corner) if !material_edge => {
@@ -181,20 +155,21 @@ impl Engine<'_> {
             }
             _ => Placement::Fixed,
         };
-        let mut total = self.total[ui];
-        total += &self.total[vi];
-        let stride = self.priced.stride();
-        let sums_of = |w: u32| &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
+        let mut total = self.costs.total[ui];
+        total += &self.costs.total[vi];
+        let stride = self.costs.priced.stride();
+        let sums_of = |w: u32| &self.costs.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
         for (iv, &wv) in v_wedges.iter().enumerate() {
             let partner = self.scratch.pairing.v_partner[iv];
             let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
-            let optimal = self.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
+            let optimal =
+                self.costs.mode == CollapseMode::Full && (wu != NONE || placement != Placement::Fixed);
             // Per channel `(Σ area·w·g, Σ area·w·d)` of the merged pair (or the lone wedge), and
             // the pair's area `α`.
             let sv = sums_of(wv);
-            let su = if wu == NONE { &self.zero_sums[..] } else { sums_of(wu) };
+            let su = if wu == NONE { &self.costs.zero_sums[..] } else { sums_of(wu) };
             let alpha = sv[0] + su[0];
             let channels = sv[1..]
                 .chunks_exact(4)
@@ -207,14 +182,14 @@ impl Engine<'_> {
                 // One division per wedge: 1 / (α w_j) = (1 / α) · (1 / w_j).
                 let inverse_alpha = 1.0 / alpha;
                 let mut optimum = Quadric::ZERO;
-                for ((g, d), &inverse_weight) in channels.zip(&self.inverse_weights) {
+                for ((g, d), &inverse_weight) in channels.zip(&self.costs.inverse_weights) {
                     optimum.add_optimal_attribute(g, d, inverse_alpha * inverse_weight);
                 }
                 total.subtract(&optimum);
             } else {
-                let own =
-                    &self.wedge_attributes[wv as usize * self.channels..(wv as usize + 1) * self.channels];
-                for ((g, d), &(j, w)) in channels.zip(&self.priced.priced) {
+                let own = &self.costs.wedge_attributes
+                    [wv as usize * self.costs.channels..(wv as usize + 1) * self.costs.channels];
+                for ((g, d), &(j, w)) in channels.zip(&self.costs.priced.priced) {
                     total.add_fixed_attribute(g, d, alpha * w as f64, own[j] as f64);
                 }
             }
@@ -240,7 +215,7 @@ impl Engine<'_> {
             error = error.max(self.vanishing_error(u, v, x));
         }
         let weight = if total.weight > 0.0 { total.weight } else { 1.0 };
-        let (cost, mean_squared) = (self.order_key(error, total.weight), error / weight);
+        let (cost, mean_squared) = (self.costs.order_key(error, total.weight), error / weight);
         (cost.is_finite() && mean_squared.is_finite()).then_some(Plan {
             u,
             v,
@@ -262,7 +237,7 @@ impl Engine<'_> {
     /// of its corners from their centroid): it leaves nothing behind.
     fn vanishing_error(&mut self, u: u32, v: u32, x: u32) -> f64 {
         let corners = [u, v, x].map(|c| self.mesh.position[c as usize]);
-        let area: f64 = [u, v, x].iter().map(|&c| self.geometric[c as usize].weight).sum();
+        let area: f64 = [u, v, x].iter().map(|&c| self.costs.geometric[c as usize].weight).sum();
         if self.mesh.lists.has_one(u) {
             return self.open_part_vanishing_error(u, v);
         }

@@ -1,0 +1,164 @@
+//! What a collapse is priced with: per class its geometric quadric (face and penalty planes) and
+//! its total quadric (plus Hoppe's attribute quadrics), per wedge its attribute sums and current
+//! attributes, the priced channels and their weights, and the scale of the order key. Pricing
+//! (`plan.rs`) only reads them; a collapse adds `u`'s quadrics and sums to `v`'s. Part of the
+//! collapse engine in `mod.rs`.
+//!
+//! Invariants: a class's quadrics and a wedge's sums only ever grow by what merges into them, so
+//! the relaxed quadric of a class (strict order only, see `plan.rs`) stays a lower bound of
+//! every pricing it enters until the class changes; a quadric's weight is its face planes' area
+//! (penalty and attribute planes weigh nothing).
+
+// `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::super::channels::Channels;
+use super::super::quadric::Quadric;
+use super::super::topology::{ConstraintSide, PositionClasses};
+use super::super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
+use super::super::{CollapseMode, SimplifyInput, SimplifyOptions};
+use super::mesh::all_faceted;
+use glam::DVec3;
+
+/// A pair smaller than this fraction of the mean pair area is ordered as if it had this
+/// fraction: its key is its mean squared error × `SMALL_PAIR`, as for a pair of that area.
+/// Ordering by the integral alone let a small part coarsen while its error was far larger than
+/// the rest's (a pair of a tenth of the mean area went at √10 × the distance of an average one):
+/// parts.glb's neck plates were 1.19 % of the diagonal off at its
+/// 228-triangle level (animated Hausdorff; meshoptimizer 0.81 %). With 0.3 a small pair goes at
+/// most √(1/0.3) ≈ 1.8 × an average pair's distance, and that level is 0.54 % off. Measured
+/// (`animated_error --detail --pose multi`, `bench/animated-vs-meshoptimizer.mjs`): 0.1 changes
+/// nothing; 0.3 improves CesiumMan's 10/5/1 % levels and Fox's 1 % by 1–4 % and changes no
+/// level for the worse by more than robot.glb's 656-triangle 0.016 → 0.017 %; 0.5, 1 and 2 make
+/// some levels of Fox, RiggedSimple or robot.glb worse by up to 80 %.
+pub(super) const SMALL_PAIR: f64 = 0.3;
+
+/// The costs of collapses (see the module docs).
+pub(super) struct Costs {
+    /// [`SimplifyOptions::mode`].
+    pub(super) mode: CollapseMode,
+    /// Attribute channels per vertex.
+    pub(super) channels: usize,
+    /// [`SimplifyOptions::normal_channel`].
+    pub(super) normal_channel: Option<usize>,
+    /// The priced attribute channels (see [`Channels`]).
+    pub(super) priced: Channels,
+    /// `1 / weight` per priced channel.
+    pub(super) inverse_weights: Vec<f64>,
+    /// Wedge sums of nothing: the partner of a wedge that merges with none.
+    pub(super) zero_sums: Vec<f64>,
+    /// `1 / (2 × mean class area)`: scales `Plan::cost` to a mean squared error for a pair of
+    /// average area.
+    pub(super) inverse_mean_pair_area: f64,
+    /// Geometric quadric per class (face and penalty planes).
+    pub(super) geometric: Vec<Quadric>,
+    /// Geometric plus attribute quadric per class; its weight is the geometric weight.
+    pub(super) total: Vec<Quadric>,
+    /// Per class, [`Costs::relaxed_quadric`] (strict order only, else empty): the source of the
+    /// bounds that defer re-pricing.
+    pub(super) relaxed: Vec<Quadric>,
+    /// Per wedge: `[Σ area, then per priced channel Σ area·w·g (3), Σ area·w·d]`, stride
+    /// `priced.stride()`.
+    pub(super) wedge_sums: Vec<f64>,
+    /// Per wedge, its attributes now (`channels` floats).
+    pub(super) wedge_attributes: Vec<f32>,
+}
+
+impl Costs {
+    /// The initial costs of `input`, whose position classes are `classes`, with the penalty
+    /// planes of the constraint edges `sides` and the input triangles' unit normals
+    /// `input_normal`. No relaxed quadrics yet ([`Costs::relax_all`]).
+    pub(super) fn new(
+        classes: &PositionClasses,
+        sides: &[ConstraintSide],
+        input_normal: &[DVec3],
+        input: &SimplifyInput<'_>,
+        options: &SimplifyOptions,
+    ) -> Costs {
+        let geometric = geometric_quadrics(classes, input, sides, input_normal);
+        let priced = Channels::new(input.attributes, input.attribute_weights);
+        let (appearance, wedge_sums) = attribute_quadrics(classes, input, &priced);
+        let mut total = geometric.clone();
+        for (t, a) in total.iter_mut().zip(&appearance) {
+            *t += a;
+        }
+        // Face planes carry the area as weight (penalty planes none): a class's weight is its
+        // triangles' area.
+        let mean_pair_area =
+            2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / classes.count().max(1) as f64;
+        Costs {
+            mode: options.mode,
+            channels: input.attribute_weights.len(),
+            normal_channel: options.normal_channel,
+            inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
+            zero_sums: vec![0.0; priced.stride()],
+            priced,
+            inverse_mean_pair_area: if mean_pair_area > 0.0 { 1.0 / mean_pair_area } else { 1.0 },
+            geometric,
+            total,
+            relaxed: Vec::new(),
+            wedge_sums,
+            wedge_attributes: input.attributes.to_vec(),
+        }
+    }
+
+    /// The order key of a collapse whose quadric error is `error` over a pair of area `weight`
+    /// (see the module docs of `mod.rs`): the error over the mean pair area, or for a pair
+    /// smaller than [`SMALL_PAIR`] of the mean, over its own area divided by `SMALL_PAIR`.
+    pub(super) fn order_key(&self, error: f64, weight: f64) -> f64 {
+        if weight > 0.0 {
+            error * self.inverse_mean_pair_area.max(SMALL_PAIR / weight)
+        } else {
+            error * self.inverse_mean_pair_area
+        }
+    }
+
+    /// Computes every class's relaxed quadric (for the strict order's bounds).
+    pub(super) fn relax_all(&mut self, classes: &PositionClasses) {
+        self.relaxed = (0..classes.count()).map(|c| self.relaxed_quadric(classes, c)).collect();
+    }
+
+    /// Class `c`'s relaxed quadric: its total quadric with each wedge's attributes reduced out
+    /// at that wedge's own optimum (see the module docs of `plan.rs`).
+    pub(super) fn relaxed_quadric(&self, classes: &PositionClasses, c: usize) -> Quadric {
+        let mut relaxed = self.total[c];
+        let stride = self.priced.stride();
+        for &w in classes.wedges_of(c as u32) {
+            let sums = &self.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
+            if !(sums[0] > 0.0) {
+                continue;
+            }
+            let inverse_alpha = 1.0 / sums[0];
+            let mut optimum = Quadric::ZERO;
+            for (channel, &inverse_weight) in sums[1..].chunks_exact(4).zip(&self.inverse_weights) {
+                let g = DVec3::new(channel[0], channel[1], channel[2]);
+                optimum.add_optimal_attribute(g, channel[3], inverse_alpha * inverse_weight);
+            }
+            relaxed.subtract(&optimum);
+        }
+        relaxed
+    }
+
+    /// Whether every wedge of class `c` is faceted now (see `all_faceted` in `mesh.rs`).
+    pub(super) fn is_faceted(&self, classes: &PositionClasses, c: u32) -> bool {
+        let Some(channel) = self.normal_channel else { return false };
+        all_faceted(classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
+    }
+
+    /// Class `v` takes class `u`'s quadrics, merged at `p` (its relaxed quadric follows, once
+    /// `v`'s wedge sums have taken `u`'s); returns the distance the merged geometric quadric
+    /// measures at `p` (the root of its mean squared error), which the log records.
+    pub(super) fn merge_classes(&mut self, classes: &PositionClasses, u: usize, v: usize, p: DVec3) -> f64 {
+        let mut geometric = self.geometric[u];
+        geometric += &self.geometric[v];
+        let weight = if geometric.weight > 0.0 { geometric.weight } else { 1.0 };
+        let distance = (geometric.error(p).max(0.0) / weight).sqrt();
+        self.geometric[v] = geometric;
+        let tu = self.total[u];
+        self.total[v] += &tu;
+        if !self.relaxed.is_empty() {
+            self.relaxed[v] = self.relaxed_quadric(classes, v);
+        }
+        distance
+    }
+}
