@@ -29,7 +29,7 @@ impl Engine<'_> {
             if cost < queued {
                 return Some(plan);
             }
-            self.push(&plan);
+            self.order.push(&self.mesh, &plan);
         }
         None
     }
@@ -202,7 +202,7 @@ impl Engine<'_> {
         self.mesh.merged_into[ui] = vi as u32;
         self.mesh.version[ui] = self.mesh.version[ui].wrapping_add(1);
         self.mesh.version[vi] = self.mesh.version[vi].wrapping_add(1);
-        self.failed_head[vi] = NONE; // every edge of v is queued again below
+        self.order.parked.clear(vi as u32); // every edge of v is queued again below
         self.log.steps.push(RawStep {
             cost: plan.mean_squared,
             distance,
@@ -232,12 +232,12 @@ impl Engine<'_> {
         let is_third = |x: u32| x == thirds[0] || x == thirds[1];
         for &x in &neighbours {
             let xi = x as usize;
-            let parked = self.failed_head[xi] != NONE;
+            let parked = self.order.parked.is_parked(x);
             if !parked && self.mesh.kind[xi] != Kind::Junction {
                 continue;
             }
             if is_third(x) {
-                self.failed_head[xi] = NONE;
+                self.order.parked.clear(x);
                 self.mesh.version[xi] = self.mesh.version[xi].wrapping_add(1);
                 self.mesh.neighbours_into(x, &mut self.scratch.marks, &mut second);
                 for &y in &second {
@@ -249,20 +249,18 @@ impl Engine<'_> {
             }
             self.mesh.neighbours_into(x, &mut self.scratch.marks, &mut second);
             let stamp = self.scratch.marks.next_stamp();
-            let mut record = std::mem::replace(&mut self.failed_head[xi], NONE);
-            while record != NONE {
-                let (partner, next) = self.failed[record as usize];
-                self.scratch.marks.set(partner, stamp);
-                record = next;
-            }
+            let marks = &mut self.scratch.marks;
+            self.order.parked.take(x, |partner| marks.set(partner, stamp));
             for &y in &second {
                 if y != v && (is_third(y) || self.scratch.marks.is_set(y, stamp)) {
                     self.requeue(x, y);
                 }
             }
         }
-        match self.schedule {
-            Schedule::Strict => self.queue_bounds(v, &neighbours),
+        match self.order.schedule {
+            Schedule::Strict => {
+                self.order.queue_bounds(&self.mesh, &self.costs, &mut self.stats, v, &neighbours)
+            }
             Schedule::Passes => {
                 for &x in &neighbours {
                     self.requeue(v, x);

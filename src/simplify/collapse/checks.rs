@@ -156,13 +156,6 @@ impl Engine<'_> {
         self.scratch.probe_triangles = probes.triangles;
         farthest
     }
-
-    /// Marks `c` parked, remembering that its collapse with `partner` failed a check.
-    pub(super) fn park(&mut self, c: u32, partner: u32) {
-        let record = self.failed.len() as u32;
-        self.failed.push((partner, self.failed_head[c as usize]));
-        self.failed_head[c as usize] = record;
-    }
 }
 
 impl Mesh<'_> {

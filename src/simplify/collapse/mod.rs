@@ -60,6 +60,7 @@ mod checks;
 mod costs;
 mod floors;
 mod mesh;
+mod order;
 mod passes;
 mod plan;
 mod poses;
@@ -69,8 +70,7 @@ mod strict;
 
 pub use stats::{pricing_stats, PricingStats};
 
-use super::quadric::Quadric;
-use super::queue::{Candidate, Queue};
+use super::queue::Candidate;
 use super::topology::NONE;
 use super::{OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
 use crate::progressive::CollapseLog;
@@ -78,6 +78,7 @@ use costs::Costs;
 use floors::Floors;
 use glam::DVec3;
 use mesh::Mesh;
+use order::Order;
 use scratch::Scratch;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -166,25 +167,8 @@ fn stamp(version_u: u32, version_v: u32) -> u32 {
 struct Engine<'a> {
     mesh: Mesh<'a>,
     costs: Costs,
-    /// Scratch of [`Engine::queue_bounds`].
-    bound_sums: Vec<(Quadric, u32)>,
+    order: Order,
     vertex_id: Vec<u32>,
-    /// Per class, the head of its list of failed partners in `failed` (NONE: not parked).
-    failed_head: Vec<u32>,
-    /// Failed-edge records: (partner class, next record or NONE).
-    failed: Vec<(u32, u32)>,
-    // Order.
-    schedule: Schedule,
-    /// The heap of [`Schedule::Strict`].
-    queue: Queue,
-    /// Queue length after the last purge of stale entries.
-    purged_length: usize,
-    /// The priced candidates of [`Schedule::Passes`], in no particular order between passes.
-    candidates: Vec<Candidate>,
-    /// Edges (lower class first) to price at the end of the pass.
-    pending: Vec<(u32, u32)>,
-    /// Scratch of the pass threshold: the candidates' cost bits.
-    keys: Vec<u32>,
     scratch: Scratch,
     log: CollapseLog,
     /// This run's counts, added to the process-wide ones at the end.
@@ -215,34 +199,28 @@ impl<'a> Engine<'a> {
         let costs = Costs::new(classes, &sides, &mesh.input_normal, input, options);
         Engine {
             floors: Floors::new(input, options, classes),
-            bound_sums: Vec::new(),
             vertex_id: (0..n as u32).collect(),
-            failed_head: vec![NONE; class_count],
-            failed: Vec::new(),
-            schedule: options.schedule,
-            queue: Queue::default(),
-            purged_length: 0,
-            candidates: Vec::new(),
-            pending: Vec::new(),
-            keys: Vec::new(),
             scratch: Scratch::new(class_count, m),
             log,
             stats: PricingStats::default(),
             mesh,
             costs,
+            order: Order::new(options.schedule, class_count),
         }
     }
 
     fn queue_all_edges(&mut self) {
-        if self.schedule == Schedule::Strict {
+        if self.order.schedule == Schedule::Strict {
             self.costs.relax_all(&self.mesh.classes);
         }
         let mut neighbours = std::mem::take(&mut self.scratch.neighbours);
         for c in 0..self.mesh.classes.count() as u32 {
             self.mesh.neighbours_into(c, &mut self.scratch.marks, &mut neighbours);
             neighbours.retain(|&x| c < x);
-            match self.schedule {
-                Schedule::Strict => self.queue_bounds(c, &neighbours),
+            match self.order.schedule {
+                Schedule::Strict => {
+                    self.order.queue_bounds(&self.mesh, &self.costs, &mut self.stats, c, &neighbours)
+                }
                 Schedule::Passes => {
                     for &x in &neighbours {
                         self.queue_edge(c, x, 0.0);
@@ -253,88 +231,29 @@ impl<'a> Engine<'a> {
         self.scratch.neighbours = neighbours;
     }
 
-    fn push(&mut self, plan: &Plan) {
-        let (u, v) = (plan.u, plan.v);
-        let (u, v) = if matches!(plan.placement, Placement::Fixed) {
-            (u, v)
-        } else {
-            // Symmetric placements: both directions give the same point and cost; the end nearer
-            // the new point survives (it keeps its skin weights), ties to the lower class id.
-            let du = (plan.p - self.mesh.position[u as usize]).length_squared();
-            let dv = (plan.p - self.mesh.position[v as usize]).length_squared();
-            if du < dv || (du == dv && u < v) {
-                (v, u)
-            } else {
-                (u, v)
-            }
-        };
-        let candidate = Candidate::new(plan.cost as f32, u, v, self.mesh.stamp_of(u, v));
-        match self.schedule {
-            Schedule::Passes => self.candidates.push(candidate),
-            Schedule::Strict => self.queue.push(candidate),
-        }
-    }
-
     /// Queues the valid collapses of edge `a`–`b`: one entry for a symmetric placement, else one
     /// per valid direction. `bound` is a lower bound of their costs that deferred this pricing
     /// (0 if none), checked in debug builds.
     fn queue_edge(&mut self, a: u32, b: u32, bound: f32) {
         if let Some(plan) = self.plan(a, b) {
             debug_assert!(plan.cost as f32 >= bound, "{a}-{b}: cost {} below its bound {bound}", plan.cost);
-            self.push(&plan);
+            self.order.push(&self.mesh, &plan);
             if plan.placement != Placement::Fixed {
                 return;
             }
         }
         if let Some(plan) = self.plan(b, a) {
             debug_assert!(plan.cost as f32 >= bound, "{b}-{a}: cost {} below its bound {bound}", plan.cost);
-            self.push(&plan);
+            self.order.push(&self.mesh, &plan);
         }
-    }
-
-    /// Defers pricing the edges from `v` to `others` in the strict order: queues each under a
-    /// lower bound of its cost, to be priced when that reaches the top of the queue (most
-    /// re-priced edges change again before then, see `pricing_stats`).
-    fn queue_bounds(&mut self, v: u32, others: &[u32]) {
-        // Two loops: the first only gathers the neighbours' quadrics and versions, independent
-        // loads that miss the caches together instead of one after another behind each bound's
-        // solve.
-        let mut sums = std::mem::take(&mut self.bound_sums);
-        sums.clear();
-        let relaxed_v = self.costs.relaxed[v as usize];
-        for &x in others {
-            let mut sum = relaxed_v;
-            sum += &self.costs.relaxed[x as usize];
-            sums.push((sum, self.mesh.stamp_of(v.min(x), v.max(x))));
-        }
-        for (&x, (sum, stamp)) in others.iter().zip(&sums) {
-            // Where the pair's planes leave a direction free (a flat or cylindrical patch, every
-            // plate of an armour), the least value over all of space is 0 and would have the
-            // edge priced at the next pop. Every placement lies within one edge length of the
-            // midpoint (`price` in `plan.rs`; the f32 rounding of the point within 1e-6 of its
-            // coordinates), so the least value within that ball is a bound too.
-            let mut error_bound = sum.minimum_lower_bound();
-            if error_bound == 0.0 {
-                let (a, b) = (self.mesh.position[v as usize], self.mesh.position[x as usize]);
-                let (center, length) = (0.5 * (a + b), a.distance(b));
-                let radius = length + 1e-6 * (length + center.abs().max_element());
-                error_bound = sum.lower_bound_within(center, radius);
-            }
-            // The pair's area is the sum's (relaxing drops attribute planes, not area), so the
-            // bound scales like the key.
-            let bound = self.costs.order_key(error_bound, sum.weight) as f32;
-            self.queue.push(Candidate::bound(bound, v.min(x), v.max(x), *stamp));
-        }
-        self.stats.bounds += others.len() as u64;
-        self.bound_sums = sums;
     }
 
     /// Prices edge `a`–`b` again after a collapse changed it: at once in the strict order, at
     /// the end of the pass otherwise (in bulk, sorted, so the pricings walk memory in order).
     fn requeue(&mut self, a: u32, b: u32) {
-        match self.schedule {
+        match self.order.schedule {
             Schedule::Strict => self.queue_edge(a, b, 0.0),
-            Schedule::Passes => self.pending.push((a.min(b), a.max(b))),
+            Schedule::Passes => self.order.pending.push((a.min(b), a.max(b))),
         }
     }
 }

@@ -19,6 +19,7 @@
 
 use super::super::queue::Candidate;
 use super::super::StopReason;
+use super::order::Order;
 use super::{Engine, Progress};
 
 /// The pass's error goal is this many times the k-th cheapest candidate's cost: meshoptimizer's
@@ -44,17 +45,18 @@ impl Engine<'_> {
         // The costliest collapse so far (the running maximum the levels report).
         let mut running_max = 0.0f32;
         loop {
-            self.pick();
-            if self.candidates.is_empty() {
+            let mesh = &self.mesh;
+            self.order.pick(|c| mesh.is_current(c));
+            if self.order.candidates.is_empty() {
                 if self.reach_nearest_waiting() {
                     self.update();
                     continue;
                 }
                 return self.floors.exhausted();
             }
-            let goal = self.rank(running_max);
-            let first = self.sort(goal);
-            let mut batch = std::mem::take(&mut self.candidates);
+            let goal = self.order.rank(self.mesh.live_triangles, running_max);
+            let first = self.order.sort(goal);
+            let mut batch = std::mem::take(&mut self.order.candidates);
             let stop = self.perform(
                 &batch[first..],
                 target,
@@ -66,46 +68,9 @@ impl Engine<'_> {
                 return stop;
             }
             batch.truncate(first);
-            self.candidates = batch;
+            self.order.candidates = batch;
             self.update();
         }
-    }
-
-    /// Drops the candidates whose classes died or changed since they were priced.
-    fn pick(&mut self) {
-        let mesh = &self.mesh;
-        self.candidates.retain(|c| mesh.is_current(c));
-    }
-
-    /// The pass's error goal: `GOAL_FACTOR` × the k-th cheapest candidate's cost, at least the
-    /// running maximum (collapsing an edge no costlier than one already collapsed never raises
-    /// the reported error; meshoptimizer PR #770).
-    fn rank(&mut self, running_max: f32) -> f32 {
-        self.keys.clear();
-        self.keys.extend(self.candidates.iter().map(|c| c.cost().to_bits()));
-        let k = (self.mesh.live_triangles / RANK_DIVISOR).clamp(1, self.keys.len()) - 1;
-        // Non-negative f32 bits order like the numbers.
-        let (_, kth, _) = self.keys.select_nth_unstable(k);
-        (f32::from_bits(*kth) * GOAL_FACTOR).max(running_max)
-    }
-
-    /// Moves the candidates at or under `goal` to the end of the list, sorted by (cost, u, v);
-    /// returns where they start.
-    fn sort(&mut self, goal: f32) -> usize {
-        let list = &mut self.candidates;
-        let mut end = list.len();
-        let mut at = 0;
-        while at < end {
-            // `!(cost > goal)` also takes NaN, which no candidate has (pricing drops it).
-            if list[at].cost() <= goal {
-                end -= 1;
-                list.swap(at, end);
-            } else {
-                at += 1;
-            }
-        }
-        list[end..].sort_unstable_by_key(Candidate::order);
-        end
     }
 
     /// Commits `batch` in order, skipping collapses over `max_mean_squared_error`; `Some` when the target is
@@ -139,8 +104,8 @@ impl Engine<'_> {
                 continue;
             }
             let Some((farthest, distance)) = self.check(&plan) else {
-                self.park(u, v);
-                self.park(v, u);
+                self.order.parked.park(u, v);
+                self.order.parked.park(v, u);
                 continue;
             };
             if distance > self.floors.max_distance {
@@ -156,13 +121,53 @@ impl Engine<'_> {
 
     /// Prices the edges the pass changed, once each, in class order.
     fn update(&mut self) {
-        let mut pending = std::mem::take(&mut self.pending);
+        let mut pending = std::mem::take(&mut self.order.pending);
         pending.sort_unstable();
         pending.dedup();
         for &(a, b) in &pending {
             self.queue_edge(a, b, 0.0);
         }
         pending.clear();
-        self.pending = pending;
+        self.order.pending = pending;
+    }
+}
+
+impl Order {
+    /// Drops the candidates whose classes died or changed since they were priced (not
+    /// `current`).
+    fn pick(&mut self, current: impl Fn(&Candidate) -> bool) {
+        self.candidates.retain(|c| current(c));
+    }
+
+    /// The pass's error goal, with `live_triangles` left: `GOAL_FACTOR` × the k-th cheapest
+    /// candidate's cost, at least the
+    /// running maximum (collapsing an edge no costlier than one already collapsed never raises
+    /// the reported error; meshoptimizer PR #770).
+    fn rank(&mut self, live_triangles: usize, running_max: f32) -> f32 {
+        self.keys.clear();
+        self.keys.extend(self.candidates.iter().map(|c| c.cost().to_bits()));
+        let k = (live_triangles / RANK_DIVISOR).clamp(1, self.keys.len()) - 1;
+        // Non-negative f32 bits order like the numbers.
+        let (_, kth, _) = self.keys.select_nth_unstable(k);
+        (f32::from_bits(*kth) * GOAL_FACTOR).max(running_max)
+    }
+
+    /// Moves the candidates at or under `goal` to the end of the list, sorted by (cost, u, v);
+    /// returns where they start.
+    fn sort(&mut self, goal: f32) -> usize {
+        let list = &mut self.candidates;
+        let mut end = list.len();
+        let mut at = 0;
+        while at < end {
+            // `!(cost > goal)` also takes NaN, which no candidate has (pricing drops it).
+            if list[at].cost() <= goal {
+                end -= 1;
+                list.swap(at, end);
+            } else {
+                at += 1;
+            }
+        }
+        list[end..].sort_unstable_by_key(Candidate::order);
+        end
     }
 }
