@@ -5,10 +5,13 @@
 
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::{CollapseMode, Schedule};
+use super::costs::Costs;
 use super::mesh::Mesh;
+use super::record::Record;
 use super::scratch::Pairing;
+use super::scratch::Scratch;
 use super::{Engine, Plan};
-use crate::progressive::{CollapseLog, RawCornerChange, RawStep};
+use crate::progressive::{RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
 
 impl Engine<'_> {
@@ -18,7 +21,7 @@ impl Engine<'_> {
     /// first (`clearance.rs`), an open part's moves with the live triangles near it (`plan.rs`).
     /// Such an entry goes back in line at its new price.
     pub(super) fn current_plan(&mut self, u: u32, v: u32, queued: f32) -> Option<Plan> {
-        let plan = self.plan(u, v)?;
+        let plan = self.pricing().plan(u, v)?;
         let cost = plan.cost as f32;
         if cost == queued {
             return Some(plan);
@@ -79,137 +82,30 @@ impl Engine<'_> {
         }
     }
 
-    /// Performs a planned (and checked) collapse; `plan` must be the latest [`Engine::plan`]
-    /// call, whose pairing scratch it uses.
+    /// Performs a planned (and checked) collapse; `plan` must be the latest plan priced, whose
+    /// pairing scratch it uses.
     pub(super) fn apply(&mut self, plan: &Plan) {
-        let step = self.log.steps.len() as u32 + 1;
-        let (first_new, new_count) = self.merge_wedges(plan, step);
-        let thirds = self.mesh.move_corners(
-            &self.scratch.pairing,
-            &mut self.log,
-            &self.vertex_id,
-            (plan.u, plan.v),
-            step,
-        );
+        let step = self.record.steps() as u32 + 1;
+        let (first_new, new_count) =
+            merge_wedges(&self.mesh, &mut self.costs, &mut self.scratch, &mut self.record, plan, step);
+        let thirds = self.mesh.move_corners(&self.scratch.pairing, &mut self.record, (plan.u, plan.v), step);
         self.merge_classes(plan, first_new, new_count);
         self.requeue_neighbours(plan.v, thirds);
-    }
-
-    /// New vertices: one per merged wedge pair, and one per unmerged wedge of `v` that moves,
-    /// logged at `step`; returns the first new vertex id and the count.
-    fn merge_wedges(&mut self, plan: &Plan, step: u32) -> (u32, u32) {
-        let (u, v, p) = (plan.u, plan.v, plan.p);
-        let (ui, vi) = (u as usize, v as usize);
-        let m = self.costs.channels;
-        let stride = self.costs.priced.stride();
-        let moved = p != self.mesh.position[vi];
-        let first_new = self.log.positions.len() as u32;
-        let u_range = self.mesh.class_wedges(ui);
-        let v_range = self.mesh.class_wedges(vi);
-        let pv = self.mesh.position[vi];
-        let pu = self.mesh.position[ui];
-        let edge = pu - pv;
-        let t = if edge.length_squared() > 0.0 {
-            ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        for (iv, k) in v_range.clone().enumerate() {
-            let wv = self.mesh.classes.wedges[k] as usize;
-            let partner = self.scratch.pairing.v_partner[iv];
-            let wu = if partner == NONE {
-                usize::MAX
-            } else {
-                self.mesh.classes.wedges[u_range.start + partner as usize] as usize
-            };
-            if wu == usize::MAX && !moved {
-                continue;
-            }
-            if wu != usize::MAX {
-                for k in 0..stride {
-                    self.costs.wedge_sums[wv * stride + k] += self.costs.wedge_sums[wu * stride + k];
-                }
-            }
-            for j in 0..m {
-                let own = self.costs.wedge_attributes[wv * m + j];
-                let priced = self.costs.priced.source[j];
-                let w = priced.map_or(0.0, |k| self.costs.priced.priced[k].1 as f64);
-                let alpha_w = self.costs.wedge_sums[wv * stride] * w;
-                let value = if self.costs.mode == CollapseMode::HalfEdge {
-                    own
-                } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
-                    let base = wv * stride + 1 + 4 * k;
-                    let g = DVec3::new(
-                        self.costs.wedge_sums[base],
-                        self.costs.wedge_sums[base + 1],
-                        self.costs.wedge_sums[base + 2],
-                    );
-                    ((g.dot(p) + self.costs.wedge_sums[base + 3]) / alpha_w) as f32
-                } else if wu != usize::MAX {
-                    let other = self.costs.wedge_attributes[wu * m + j];
-                    (own as f64 + (other as f64 - own as f64) * t) as f32
-                } else {
-                    own
-                };
-                self.scratch.new_attributes[j] = value;
-            }
-            if let (Some(c), CollapseMode::Full) = (self.costs.normal_channel, self.costs.mode) {
-                let normal = Vec3::from_slice(&self.scratch.new_attributes[c..c + 3]).normalize_or_zero();
-                if normal != Vec3::ZERO {
-                    self.scratch.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
-                }
-            }
-            let id = self.log.positions.len() as u32;
-            self.log.positions.push(p.as_vec3());
-            self.log.attributes.extend_from_slice(&self.scratch.new_attributes);
-            self.log.parent.push(NONE);
-            self.log.born_at.push(step);
-            self.log.survivor_source.push(self.vertex_id[wv]);
-            self.log.parent[self.vertex_id[wv] as usize] = id;
-            if wu != usize::MAX {
-                self.log.parent[self.vertex_id[wu] as usize] = id;
-            }
-            self.vertex_id[wv] = id;
-            self.costs.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&self.scratch.new_attributes);
-        }
-        let new_count = self.log.positions.len() as u32 - first_new;
-        // Wedges of u that no live triangle uses any more end here too.
-        for (iu, k) in u_range.clone().enumerate() {
-            let wu = self.mesh.classes.wedges[k] as usize;
-            if !self.scratch.pairing.u_seen[iu] && new_count > 0 {
-                self.log.parent[self.vertex_id[wu] as usize] = first_new;
-            }
-        }
-        (first_new, new_count)
     }
 
     /// Class state: `v` takes `u`'s quadrics and the new position, `u` dies, both versions move
     /// on (every candidate of either is stale); the step goes to the log.
     fn merge_classes(&mut self, plan: &Plan, first_new: u32, new_count: u32) {
-        let (ui, vi, p) = (plan.u as usize, plan.v as usize, plan.p);
-        let distance = self.costs.merge_classes(&self.mesh.classes, ui, vi, p);
-        // A hard corner that moves is no longer one.
-        self.mesh.hard_corner[vi] &= self.mesh.position[vi] == p;
-        self.mesh.position[vi] = p;
-        // The survivor of a junction inherits its line ends or meeting lines: it stays put from
-        // now on and collapses only under the junction rules (a stale interior or line kind
-        // would let it drag those lines freely).
-        if self.mesh.kind[ui] == Kind::Junction && self.mesh.kind[vi] != Kind::Locked {
-            self.mesh.kind[vi] = Kind::Junction;
-        }
-        self.mesh.on_outline[vi] |= self.mesh.on_outline[ui];
-        self.mesh.alive[ui] = false;
-        self.mesh.merged_into[ui] = vi as u32;
-        self.mesh.version[ui] = self.mesh.version[ui].wrapping_add(1);
-        self.mesh.version[vi] = self.mesh.version[vi].wrapping_add(1);
-        self.order.parked.clear(vi as u32); // every edge of v is queued again below
-        self.log.steps.push(RawStep {
+        let distance = self.costs.merge_classes(&self.mesh.classes, plan.u as usize, plan.v as usize, plan.p);
+        self.mesh.merge_classes(plan.u, plan.v, plan.p);
+        self.order.parked.clear(plan.v); // every edge of v is queued again below
+        self.record.log.steps.push(RawStep {
             cost: plan.mean_squared,
             distance,
             triangles_after: self.mesh.live_triangles as u32,
             first_new_vertex: first_new,
             new_vertex_count: new_count,
-            corner_changes_end: self.log.corner_changes.len() as u32,
+            corner_changes_end: self.record.log.corner_changes.len() as u32,
         });
     }
 
@@ -259,7 +155,7 @@ impl Engine<'_> {
         }
         match self.order.schedule {
             Schedule::Strict => {
-                self.order.queue_bounds(&self.mesh, &self.costs, &mut self.stats, v, &neighbours)
+                self.order.queue_bounds(&self.mesh, &self.costs, &mut self.record.stats, v, &neighbours)
             }
             Schedule::Passes => {
                 for &x in &neighbours {
@@ -273,14 +169,34 @@ impl Engine<'_> {
 }
 
 impl Mesh<'_> {
+    /// Class `v` takes class `u`'s place at `p`: a hard corner that moves is no longer one, a
+    /// junction's survivor stays a junction, outlines are inherited; `u` dies, merged into `v`,
+    /// and both versions move on (every candidate of either is stale).
+    fn merge_classes(&mut self, u: u32, v: u32, p: DVec3) {
+        let (ui, vi) = (u as usize, v as usize);
+        // A hard corner that moves is no longer one.
+        self.hard_corner[vi] &= self.position[vi] == p;
+        self.position[vi] = p;
+        // The survivor of a junction inherits its line ends or meeting lines: it stays put from
+        // now on and collapses only under the junction rules (a stale interior or line kind
+        // would let it drag those lines freely).
+        if self.kind[ui] == Kind::Junction && self.kind[vi] != Kind::Locked {
+            self.kind[vi] = Kind::Junction;
+        }
+        self.on_outline[vi] |= self.on_outline[ui];
+        self.alive[ui] = false;
+        self.merged_into[ui] = v;
+        self.version[ui] = self.version[ui].wrapping_add(1);
+        self.version[vi] = self.version[vi].wrapping_add(1);
+    }
+
     /// Triangles: those on the edge `u`–`v` die at `step`, the others move their `u` corner to
-    /// `v`'s wedge (as `pairing` pairs them), logged in `log` under the vertex ids `vertex_id`;
-    /// returns the classes opposite the edge (NONE where there is none).
+    /// `v`'s wedge (as `pairing` pairs them), logged in `record`; returns the classes opposite
+    /// the edge (NONE where there is none).
     fn move_corners(
         &mut self,
         pairing: &Pairing,
-        log: &mut CollapseLog,
-        vertex_id: &[u32],
+        record: &mut Record,
         (u, v): (u32, u32),
         step: u32,
     ) -> [u32; 2] {
@@ -295,7 +211,7 @@ impl Mesh<'_> {
             let (a, b) = (self.class_at(n), self.class_at(pc));
             if a == v || b == v {
                 self.triangle_alive[ci / 3] = false;
-                log.triangle_death[ci / 3] = step;
+                record.log.triangle_death[ci / 3] = step;
                 self.live_triangles -= 1;
                 if dead < 2 {
                     thirds[dead] = if a == v { b } else { a };
@@ -309,10 +225,10 @@ impl Mesh<'_> {
             let wv = self.classes.wedges[v_range.start + pairing.u_pair[iu] as usize];
             self.corner_wedge[ci] = wv;
             self.corner_class[ci] = v;
-            log.corner_changes.push(RawCornerChange {
+            record.log.corner_changes.push(RawCornerChange {
                 corner,
-                from_vertex: vertex_id[wu as usize],
-                to_vertex: vertex_id[wv as usize],
+                from_vertex: record.vertex_id[wu as usize],
+                to_vertex: record.vertex_id[wv as usize],
             });
         }
         // A checked collapse has at most two triangles on its edge.
@@ -326,4 +242,100 @@ impl Mesh<'_> {
         }
         thirds
     }
+}
+
+/// New vertices: one per merged wedge pair, and one per unmerged wedge of `v` that moves,
+/// logged at `step`, with the attributes the costs give them (`scratch` holds the plan's pairing);
+/// returns the first new vertex id and the count.
+fn merge_wedges(
+    mesh: &Mesh,
+    costs: &mut Costs,
+    scratch: &mut Scratch,
+    record: &mut Record,
+    plan: &Plan,
+    step: u32,
+) -> (u32, u32) {
+    let (u, v, p) = (plan.u, plan.v, plan.p);
+    let (ui, vi) = (u as usize, v as usize);
+    let m = costs.channels;
+    let stride = costs.priced.stride();
+    let moved = p != mesh.position[vi];
+    let first_new = record.log.positions.len() as u32;
+    let u_range = mesh.class_wedges(ui);
+    let v_range = mesh.class_wedges(vi);
+    let pv = mesh.position[vi];
+    let pu = mesh.position[ui];
+    let edge = pu - pv;
+    let t = if edge.length_squared() > 0.0 {
+        ((p - pv).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    for (iv, k) in v_range.clone().enumerate() {
+        let wv = mesh.classes.wedges[k] as usize;
+        let partner = scratch.pairing.v_partner[iv];
+        let wu = if partner == NONE {
+            usize::MAX
+        } else {
+            mesh.classes.wedges[u_range.start + partner as usize] as usize
+        };
+        if wu == usize::MAX && !moved {
+            continue;
+        }
+        if wu != usize::MAX {
+            for k in 0..stride {
+                costs.wedge_sums[wv * stride + k] += costs.wedge_sums[wu * stride + k];
+            }
+        }
+        for j in 0..m {
+            let own = costs.wedge_attributes[wv * m + j];
+            let priced = costs.priced.source[j];
+            let w = priced.map_or(0.0, |k| costs.priced.priced[k].1 as f64);
+            let alpha_w = costs.wedge_sums[wv * stride] * w;
+            let value = if costs.mode == CollapseMode::HalfEdge {
+                own
+            } else if let (Some(k), true) = (priced, alpha_w > 0.0) {
+                let base = wv * stride + 1 + 4 * k;
+                let g = DVec3::new(
+                    costs.wedge_sums[base],
+                    costs.wedge_sums[base + 1],
+                    costs.wedge_sums[base + 2],
+                );
+                ((g.dot(p) + costs.wedge_sums[base + 3]) / alpha_w) as f32
+            } else if wu != usize::MAX {
+                let other = costs.wedge_attributes[wu * m + j];
+                (own as f64 + (other as f64 - own as f64) * t) as f32
+            } else {
+                own
+            };
+            scratch.new_attributes[j] = value;
+        }
+        if let (Some(c), CollapseMode::Full) = (costs.normal_channel, costs.mode) {
+            let normal = Vec3::from_slice(&scratch.new_attributes[c..c + 3]).normalize_or_zero();
+            if normal != Vec3::ZERO {
+                scratch.new_attributes[c..c + 3].copy_from_slice(&normal.to_array());
+            }
+        }
+        let id = record.log.positions.len() as u32;
+        record.log.positions.push(p.as_vec3());
+        record.log.attributes.extend_from_slice(&scratch.new_attributes);
+        record.log.parent.push(NONE);
+        record.log.born_at.push(step);
+        record.log.survivor_source.push(record.vertex_id[wv]);
+        record.log.parent[record.vertex_id[wv] as usize] = id;
+        if wu != usize::MAX {
+            record.log.parent[record.vertex_id[wu] as usize] = id;
+        }
+        record.vertex_id[wv] = id;
+        costs.wedge_attributes[wv * m..wv * m + m].copy_from_slice(&scratch.new_attributes);
+    }
+    let new_count = record.log.positions.len() as u32 - first_new;
+    // Wedges of u that no live triangle uses any more end here too.
+    for (iu, k) in u_range.clone().enumerate() {
+        let wu = mesh.classes.wedges[k] as usize;
+        if !scratch.pairing.u_seen[iu] && new_count > 0 {
+            record.log.parent[record.vertex_id[wu] as usize] = first_new;
+        }
+    }
+    (first_new, new_count)
 }

@@ -17,8 +17,10 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::super::topology::{other_corners, Kind, NONE};
+use super::floors::Floors;
 use super::mesh::Mesh;
-use super::{Engine, Plan};
+use super::scratch::Scratch;
+use super::Plan;
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::DVec3;
 
@@ -34,128 +36,124 @@ const MIN_SIN_ANGLE: f64 = 1e-6;
 /// vertex stands for its distance from the surface (see [`Probes`]). Most collapses of a fine
 /// mesh move their ends less than that; at 0.5 CesiumMan's toes went again.
 const SEARCH_FROM: f64 = 0.1;
-impl Engine<'_> {
-    /// The topological and geometric checks of a planned collapse: link condition, no duplicate
-    /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
-    /// the merged vertex is to track and its distance from the surface the collapse leaves (see
-    /// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
-    /// (`poses.rs`); `None` for an invalid one.
-    pub(super) fn check(&mut self, plan: &Plan) -> Option<(u32, f64)> {
-        let (u, v) = (plan.u, plan.v);
-        let stamp = self.scratch.marks.next_stamp();
-        for corner in self.mesh.lists.iter(v) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
-            self.scratch.marks.set(a, stamp);
-            self.scratch.marks.set(b, stamp);
-        }
-        let mut opposite = [NONE; 2];
-        let mut count = 0;
-        for corner in self.mesh.lists.iter(u) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
-            let x = if a == v {
-                b
-            } else if b == v {
-                a
-            } else {
-                continue;
-            };
-            if count == 2 {
-                return None;
-            }
-            opposite[count] = x;
-            count += 1;
-        }
-        if count == 0 {
-            return None; // no longer an edge
-        }
-        if count == 2 && opposite[0] == opposite[1] {
-            // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
-            // standing alone may collapse; both triangles die and nothing of it is left to fold.
-            // One that would leave a point beyond the floor counts as infinitely far.
-            let sheet = [u, v, opposite[0]];
-            return self.mesh.is_lone(&sheet, 2).then(|| {
-                let distance =
-                    if self.floors.vanishes_within_floor(&self.mesh, sheet) { 0.0 } else { f64::INFINITY };
-                (self.floors.farthest_input[v as usize], distance)
-            });
-        }
-        let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
-        for corner in self.mesh.lists.iter(u) {
-            let (n, p) = other_corners(corner);
-            let (a, b) = (self.mesh.class_at(n), self.mesh.class_at(p));
-            if a == v || b == v {
-                continue;
-            }
-            // Link condition: u and v may only share the neighbours across the edge.
-            for x in [a, b] {
-                if self.scratch.marks.is_set(x, stamp) && !is_opposite(x) {
-                    return None;
-                }
-            }
-            // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b),
-            // which is allowed only when the four are a lone tetrahedron (it becomes a sheet).
-            if is_opposite(a)
-                && is_opposite(b)
-                && self.mesh.has_triangle(v, a, b)
-                && !self.mesh.is_lone(&[u, v, a, b], 3)
-            {
-                return None;
-            }
-        }
-        if count == 1 && self.mesh.lone_triangle_corner(u, v).is_some() {
-            // A lone open triangle: its part vanishes no farther from the level than the level
-            // has reached (its price, `plan.rs`), and within the floor in the other poses.
-            let reached = self.floors.reached_distance;
-            let steps = self.log.steps.len();
-            let within = self.floors.open_part_within(&self.mesh, steps, u, reached).is_ok()
-                && self.floors.vanishes_within_floor_in_other_poses(&self.mesh, u);
-            return Some((
-                self.floors.farthest_input[v as usize],
-                if within { reached } else { f64::INFINITY },
-            ));
-        }
-        if self.mesh.kind[u as usize] != Kind::Interior {
-            for &x in &opposite[..count] {
-                // Two constraint edges of one triangle would merge into one, changing the
-                // number of lines at v and x (a line vertex would become a line end). Harmless
-                // when both are locked anyway: that only closes a chart corner or a border ear.
-                let both_locked = self.mesh.kind[v as usize].pinned() && self.mesh.kind[x as usize].pinned();
-                if !both_locked && self.mesh.edge_is_constraint(u, x) && self.mesh.edge_is_constraint(v, x) {
-                    return None;
-                }
-            }
-        }
-        let scratch = std::mem::take(&mut self.scratch.probe_triangles);
-        let ends = [u, v].map(|end| self.floors.farthest_input[end as usize]);
-        let points = ends.map(|vertex| self.floors.input_positions[vertex as usize].as_dvec3());
-        let posed = self.floors.measures_in_poses(&self.mesh, plan);
-        let mut probes = Probes::new(points, plan.p, self.floors.max_distance, scratch, posed);
-        let unfolded = self.mesh.fan_unfolded(u, v, plan.p, &mut probes)
-            && if plan.p == self.mesh.position[v as usize] {
-                // v's triangles keep their corners: nothing to check, still surface to measure.
-                self.mesh.measure_fan(v, u, &mut probes);
-                true
-            } else {
-                self.mesh.fan_unfolded(v, u, plan.p, &mut probes)
-            };
-        let farthest = unfolded.then(|| {
-            let (k, distance) = probes.farthest();
-            let in_poses = if posed && probes.survivors && !(distance > self.floors.max_distance) {
-                let mut old = std::mem::take(&mut self.scratch.posed_triangles);
-                let step =
-                    self.floors.step_beyond_floor_in_poses(&self.mesh, plan, &probes.triangles, &mut old);
-                self.scratch.posed_triangles = old;
-                step
-            } else {
-                0.0
-            };
-            (ends[k], distance.max(in_poses))
-        });
-        self.scratch.probe_triangles = probes.triangles;
-        farthest
+
+/// The topological and geometric checks of a planned collapse: link condition, no duplicate
+/// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
+/// the merged vertex is to track and its distance from the surface the collapse leaves (see
+/// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
+/// (`poses.rs`); `None` for an invalid one. `steps`: the collapses logged so far (see
+/// [`Floors::open_part_within`]); `scratch` lends its marks and probe buffers.
+pub(super) fn check(
+    mesh: &Mesh,
+    floors: &mut Floors,
+    scratch: &mut Scratch,
+    steps: usize,
+    plan: &Plan,
+) -> Option<(u32, f64)> {
+    let (u, v) = (plan.u, plan.v);
+    let stamp = scratch.marks.next_stamp();
+    for corner in mesh.lists.iter(v) {
+        let (n, p) = other_corners(corner);
+        let (a, b) = (mesh.class_at(n), mesh.class_at(p));
+        scratch.marks.set(a, stamp);
+        scratch.marks.set(b, stamp);
     }
+    let mut opposite = [NONE; 2];
+    let mut count = 0;
+    for corner in mesh.lists.iter(u) {
+        let (n, p) = other_corners(corner);
+        let (a, b) = (mesh.class_at(n), mesh.class_at(p));
+        let x = if a == v {
+            b
+        } else if b == v {
+            a
+        } else {
+            continue;
+        };
+        if count == 2 {
+            return None;
+        }
+        opposite[count] = x;
+        count += 1;
+    }
+    if count == 0 {
+        return None; // no longer an edge
+    }
+    if count == 2 && opposite[0] == opposite[1] {
+        // A pinched edge: its two triangles have the same corners. Only a two-sided sheet
+        // standing alone may collapse; both triangles die and nothing of it is left to fold.
+        // One that would leave a point beyond the floor counts as infinitely far.
+        let sheet = [u, v, opposite[0]];
+        return mesh.is_lone(&sheet, 2).then(|| {
+            let distance = if floors.vanishes_within_floor(mesh, sheet) { 0.0 } else { f64::INFINITY };
+            (floors.farthest_input[v as usize], distance)
+        });
+    }
+    let is_opposite = |x: u32| x == opposite[0] || x == opposite[1];
+    for corner in mesh.lists.iter(u) {
+        let (n, p) = other_corners(corner);
+        let (a, b) = (mesh.class_at(n), mesh.class_at(p));
+        if a == v || b == v {
+            continue;
+        }
+        // Link condition: u and v may only share the neighbours across the edge.
+        for x in [a, b] {
+            if scratch.marks.is_set(x, stamp) && !is_opposite(x) {
+                return None;
+            }
+        }
+        // Triangle (u, a, b) with both a and b across the edge would duplicate (v, a, b),
+        // which is allowed only when the four are a lone tetrahedron (it becomes a sheet).
+        if is_opposite(a) && is_opposite(b) && mesh.has_triangle(v, a, b) && !mesh.is_lone(&[u, v, a, b], 3) {
+            return None;
+        }
+    }
+    if count == 1 && mesh.lone_triangle_corner(u, v).is_some() {
+        // A lone open triangle: its part vanishes no farther from the level than the level
+        // has reached (its price, `plan.rs`), and within the floor in the other poses.
+        let reached = floors.reached_distance;
+        let within = floors.open_part_within(mesh, steps, u, reached).is_ok()
+            && floors.vanishes_within_floor_in_other_poses(mesh, u);
+        return Some((floors.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
+    }
+    if mesh.kind[u as usize] != Kind::Interior {
+        for &x in &opposite[..count] {
+            // Two constraint edges of one triangle would merge into one, changing the
+            // number of lines at v and x (a line vertex would become a line end). Harmless
+            // when both are locked anyway: that only closes a chart corner or a border ear.
+            let both_locked = mesh.kind[v as usize].pinned() && mesh.kind[x as usize].pinned();
+            if !both_locked && mesh.edge_is_constraint(u, x) && mesh.edge_is_constraint(v, x) {
+                return None;
+            }
+        }
+    }
+    let buffer = std::mem::take(&mut scratch.probe_triangles);
+    let ends = [u, v].map(|end| floors.farthest_input[end as usize]);
+    let points = ends.map(|vertex| floors.input_positions[vertex as usize].as_dvec3());
+    let posed = floors.measures_in_poses(mesh, plan);
+    let mut probes = Probes::new(points, plan.p, floors.max_distance, buffer, posed);
+    let unfolded = mesh.fan_unfolded(u, v, plan.p, &mut probes)
+        && if plan.p == mesh.position[v as usize] {
+            // v's triangles keep their corners: nothing to check, still surface to measure.
+            mesh.measure_fan(v, u, &mut probes);
+            true
+        } else {
+            mesh.fan_unfolded(v, u, plan.p, &mut probes)
+        };
+    let farthest = unfolded.then(|| {
+        let (k, distance) = probes.farthest();
+        let in_poses = if posed && probes.survivors && !(distance > floors.max_distance) {
+            let mut old = std::mem::take(&mut scratch.posed_triangles);
+            let step = floors.step_beyond_floor_in_poses(mesh, plan, &probes.triangles, &mut old);
+            scratch.posed_triangles = old;
+            step
+        } else {
+            0.0
+        };
+        (ends[k], distance.max(in_poses))
+    });
+    scratch.probe_triangles = probes.triangles;
+    farthest
 }
 
 impl Mesh<'_> {

@@ -64,6 +64,7 @@ mod order;
 mod passes;
 mod plan;
 mod poses;
+mod record;
 mod scratch;
 mod stats;
 mod strict;
@@ -71,14 +72,14 @@ mod strict;
 pub use stats::{pricing_stats, PricingStats};
 
 use super::queue::Candidate;
-use super::topology::NONE;
-use super::{OtherPoses, Schedule, SimplifyInput, SimplifyOptions, StopReason};
+use super::{OtherPoses, Schedule, SimplifyInput, SimplifyOptions};
 use crate::progressive::CollapseLog;
 use costs::Costs;
 use floors::Floors;
 use glam::DVec3;
 use mesh::Mesh;
 use order::Order;
+use record::Record;
 use scratch::Scratch;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,10 +128,11 @@ pub(crate) fn run(
         Schedule::Passes => engine.collapse_in_passes(target, max_mean_squared_error, progress),
         Schedule::Strict => engine.collapse_until(target, max_mean_squared_error, progress),
     };
-    engine.log.stop = stop;
-    engine.stats.collapses = engine.log.steps.len() as u64;
-    stats::add(&engine.stats);
-    engine.log
+    let Record { mut log, mut stats, .. } = engine.record;
+    log.stop = stop;
+    stats.collapses = log.steps.len() as u64;
+    stats::add(&stats);
+    log
 }
 
 /// Reports progress at most [`PROGRESS_STEPS`] times as the live triangle count falls towards the
@@ -164,48 +166,37 @@ fn stamp(version_u: u32, version_v: u32) -> u32 {
     (version_u & 0xFFFF) | ((version_v & 0x7FFF) << 16)
 }
 
+/// The collapse engine: a few owned parts, each with its own module and invariants. Work that
+/// needs several of them borrows each as it needs it: pricing reads the mesh and the costs and
+/// writes the pairing (`Pricing` in `plan.rs`), the checks read the mesh and ask the floors
+/// (`checks.rs`).
 struct Engine<'a> {
+    /// The mesh's topology and state (`mesh.rs`).
     mesh: Mesh<'a>,
+    /// What collapses are priced with (`costs.rs`).
     costs: Costs,
+    /// The candidates in their order, and the parked classes (`order.rs`).
     order: Order,
-    vertex_id: Vec<u32>,
-    scratch: Scratch,
-    log: CollapseLog,
-    /// This run's counts, added to the process-wide ones at the end.
-    stats: PricingStats,
+    /// The floors besides the error limit, and what they remember (`floors.rs`).
     floors: Floors<'a>,
+    /// Buffers one step fills and the next reuses (`scratch.rs`).
+    scratch: Scratch,
+    /// The log, the wedges' vertex ids in it, and the counts (`record.rs`).
+    record: Record,
 }
 
 impl<'a> Engine<'a> {
+    /// Every part at the start of a run over `input`: no collapse made, nothing queued.
     fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
-        let positions = input.positions;
-        let m = input.attribute_weights.len();
-        let triangle_count = input.indices.len() / 3;
         let (mesh, sides) = Mesh::new(input, options.normal_channel);
-        let classes = &mesh.classes;
-        let class_count = classes.count();
-        let n = positions.len();
-        let log = CollapseLog {
-            positions: positions.to_vec(),
-            attributes: input.attributes.to_vec(),
-            parent: vec![NONE; n],
-            born_at: vec![0; n],
-            survivor_source: vec![NONE; n],
-            triangle_death: vec![NONE; triangle_count],
-            corner_changes: Vec::new(),
-            steps: Vec::new(),
-            stop: StopReason::NoValidCollapse,
-        };
-        let costs = Costs::new(classes, &sides, &mesh.input_normal, input, options);
+        let class_count = mesh.classes.count();
         Engine {
-            floors: Floors::new(input, options, classes),
-            vertex_id: (0..n as u32).collect(),
-            scratch: Scratch::new(class_count, m),
-            log,
-            stats: PricingStats::default(),
-            mesh,
-            costs,
+            costs: Costs::new(&mesh.classes, &sides, &mesh.input_normal, input, options),
             order: Order::new(options.schedule, class_count),
+            floors: Floors::new(input, options, &mesh.classes),
+            scratch: Scratch::new(class_count, input.attribute_weights.len()),
+            record: Record::new(input),
+            mesh,
         }
     }
 
@@ -219,7 +210,7 @@ impl<'a> Engine<'a> {
             neighbours.retain(|&x| c < x);
             match self.order.schedule {
                 Schedule::Strict => {
-                    self.order.queue_bounds(&self.mesh, &self.costs, &mut self.stats, c, &neighbours)
+                    self.order.queue_bounds(&self.mesh, &self.costs, &mut self.record.stats, c, &neighbours)
                 }
                 Schedule::Passes => {
                     for &x in &neighbours {
@@ -235,14 +226,14 @@ impl<'a> Engine<'a> {
     /// per valid direction. `bound` is a lower bound of their costs that deferred this pricing
     /// (0 if none), checked in debug builds.
     fn queue_edge(&mut self, a: u32, b: u32, bound: f32) {
-        if let Some(plan) = self.plan(a, b) {
+        if let Some(plan) = self.pricing().plan(a, b) {
             debug_assert!(plan.cost as f32 >= bound, "{a}-{b}: cost {} below its bound {bound}", plan.cost);
             self.order.push(&self.mesh, &plan);
             if plan.placement != Placement::Fixed {
                 return;
             }
         }
-        if let Some(plan) = self.plan(b, a) {
+        if let Some(plan) = self.pricing().plan(b, a) {
             debug_assert!(plan.cost as f32 >= bound, "{b}-{a}: cost {} below its bound {bound}", plan.cost);
             self.order.push(&self.mesh, &plan);
         }

@@ -19,6 +19,7 @@
 
 use super::super::queue::Candidate;
 use super::super::StopReason;
+use super::checks::check;
 use super::order::Order;
 use super::{Engine, Progress};
 
@@ -103,7 +104,9 @@ impl Engine<'_> {
                 self.floors.over_floor = true;
                 continue;
             }
-            let Some((farthest, distance)) = self.check(&plan) else {
+            let Some((farthest, distance)) =
+                check(&self.mesh, &mut self.floors, &mut self.scratch, self.record.steps(), &plan)
+            else {
                 self.order.parked.park(u, v);
                 self.order.parked.park(v, u);
                 continue;

@@ -18,10 +18,42 @@
 use super::super::quadric::Quadric;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::CollapseMode;
-use super::{Engine, Placement, Plan};
+use super::costs::Costs;
+use super::floors::Floors;
+use super::mesh::Mesh;
+use super::scratch::Pairing;
+use super::{Engine, Placement, Plan, PricingStats};
 use glam::DVec3;
 
-impl Engine<'_> {
+/// What pricing a collapse reads and writes: it reads the mesh and the costs, leaves the wedge
+/// pairing for the collapse that applies the plan, counts its pricings, and asks the floors about
+/// a part that vanishes (they remember the answers, and the open parts left waiting).
+pub(super) struct Pricing<'e, 'a> {
+    pub(super) mesh: &'e Mesh<'a>,
+    pub(super) costs: &'e Costs,
+    pub(super) floors: &'e mut Floors<'a>,
+    pub(super) pairing: &'e mut Pairing,
+    pub(super) stats: &'e mut PricingStats,
+    /// The collapses logged so far: the state of `mesh`, as the floors' memory knows it.
+    pub(super) steps: usize,
+}
+
+impl<'a> Engine<'a> {
+    /// The parts pricing borrows (see [`Pricing`]).
+    pub(super) fn pricing(&mut self) -> Pricing<'_, 'a> {
+        let steps = self.record.steps();
+        Pricing {
+            mesh: &self.mesh,
+            costs: &self.costs,
+            floors: &mut self.floors,
+            pairing: &mut self.scratch.pairing,
+            stats: &mut self.record.stats,
+            steps,
+        }
+    }
+}
+
+impl Pricing<'_, '_> {
     /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
     /// kinds forbid it, the classes no longer share an edge, or the pairing would tear a seam.
     ///
@@ -35,19 +67,19 @@ impl Engine<'_> {
         }
         let u_wedges = self.mesh.classes.wedges_of(u);
         let v_wedges = self.mesh.classes.wedges_of(v);
-        self.scratch.pairing.u_pair.clear();
-        self.scratch.pairing.u_pair.resize(u_wedges.len(), NONE);
-        self.scratch.pairing.u_seen.clear();
-        self.scratch.pairing.u_seen.resize(u_wedges.len(), false);
+        self.pairing.u_pair.clear();
+        self.pairing.u_pair.resize(u_wedges.len(), NONE);
+        self.pairing.u_seen.clear();
+        self.pairing.u_seen.resize(u_wedges.len(), false);
         let ku = self.mesh.kind[ui];
         let kv = self.mesh.kind[vi];
         if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
             // The common case needs no scan: one wedge each pairs trivially, and an interior u
             // has no line to stay on. Whether the edge still exists is checked before applying.
-            self.scratch.pairing.u_pair[0] = 0;
-            self.scratch.pairing.u_seen[0] = true;
-            self.scratch.pairing.v_partner.clear();
-            self.scratch.pairing.v_partner.push(0);
+            self.pairing.u_pair[0] = 0;
+            self.pairing.u_seen[0] = true;
+            self.pairing.v_partner.clear();
+            self.pairing.v_partner.push(0);
             self.stats.pricings += 1;
             return self.price(u, v, ku, kv, false);
         }
@@ -58,7 +90,7 @@ impl Engine<'_> {
         for corner in self.mesh.lists.iter(u) {
             let wu = self.mesh.corner_wedge[corner as usize];
             let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
-            self.scratch.pairing.u_seen[iu] = true;
+            self.pairing.u_seen[iu] = true;
             let (n, p) = other_corners(corner);
             let v_corner = if self.mesh.class_at(n) == v {
                 n
@@ -70,9 +102,9 @@ impl Engine<'_> {
             edge_triangles += 1;
             let wv = self.mesh.corner_wedge[v_corner as usize];
             let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
-            if self.scratch.pairing.u_pair[iu] == NONE {
-                self.scratch.pairing.u_pair[iu] = iv;
-            } else if self.scratch.pairing.u_pair[iu] != iv {
+            if self.pairing.u_pair[iu] == NONE {
+                self.pairing.u_pair[iu] = iv;
+            } else if self.pairing.u_pair[iu] != iv {
                 return None; // one wedge of u would have to follow two wedges of v
             }
             let material = self.mesh.materials.get(corner as usize / 3).copied().unwrap_or(0);
@@ -94,17 +126,17 @@ impl Engine<'_> {
         // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
         // ends there) but never merge the two sides of a seam.
         // Every used wedge of u needs its own wedge of v: no seam opens or closes.
-        self.scratch.pairing.v_partner.clear();
-        self.scratch.pairing.v_partner.resize(v_wedges.len(), NONE);
+        self.pairing.v_partner.clear();
+        self.pairing.v_partner.resize(v_wedges.len(), NONE);
         for iu in 0..u_wedges.len() {
-            if !self.scratch.pairing.u_seen[iu] {
+            if !self.pairing.u_seen[iu] {
                 continue;
             }
-            let iv = self.scratch.pairing.u_pair[iu];
-            if iv == NONE || self.scratch.pairing.v_partner[iv as usize] != NONE {
+            let iv = self.pairing.u_pair[iu];
+            if iv == NONE || self.pairing.v_partner[iv as usize] != NONE {
                 return None;
             }
-            self.scratch.pairing.v_partner[iv as usize] = iu as u32;
+            self.pairing.v_partner[iv as usize] = iu as u32;
         }
         self.stats.pricings += 1;
         self.price(u, v, ku, kv, material_edge)
@@ -160,7 +192,7 @@ impl Engine<'_> {
         let stride = self.costs.priced.stride();
         let sums_of = |w: u32| &self.costs.wedge_sums[w as usize * stride..(w as usize + 1) * stride];
         for (iv, &wv) in v_wedges.iter().enumerate() {
-            let partner = self.scratch.pairing.v_partner[iv];
+            let partner = self.pairing.v_partner[iv];
             let wu = if partner == NONE { NONE } else { u_wedges[partner as usize] };
             // HalfEdge: the survivor keeps its attributes. Full: merged wedges get the best
             // attributes; an unmerged wedge keeps its own unless it moves.
@@ -270,7 +302,7 @@ impl Engine<'_> {
     /// 114-triangle level than anything else (bench/README.md, 2026-11-27, last run).
     fn open_part_vanishing_error(&mut self, u: u32, v: u32) -> f64 {
         let floors = &mut self.floors;
-        match floors.open_part_within(&self.mesh, self.log.steps.len(), u, floors.reached_distance) {
+        match floors.open_part_within(self.mesh, self.steps, u, floors.reached_distance) {
             Ok(()) => 0.0,
             Err(Some(farther)) => {
                 floors.waiting.wait((u.min(v), u.max(v)), farther);

@@ -6,6 +6,7 @@
 //! would have been due. Part of the collapse engine in `mod.rs`.
 
 use super::super::StopReason;
+use super::checks::check;
 use super::{Candidate, Engine, Progress};
 
 impl Engine<'_> {
@@ -49,7 +50,9 @@ impl Engine<'_> {
                 self.floors.over_floor = true;
                 continue;
             }
-            let Some((farthest, distance)) = self.check(&plan) else {
+            let Some((farthest, distance)) =
+                check(&self.mesh, &mut self.floors, &mut self.scratch, self.record.steps(), &plan)
+            else {
                 self.order.parked.park(u, v);
                 self.order.parked.park(v, u);
                 continue;
