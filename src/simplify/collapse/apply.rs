@@ -1,10 +1,15 @@
-//! The collapse itself, in four stages (house.md §3): new vertices for the merged wedges, the
-//! corners and triangles around the edge, the surviving class's state and the log step, and the
-//! re-pricing of the edges whose plans changed (at once in the strict order, queued for the end
-//! of the pass in the batched one). Part of the collapse engine in `mod.rs`.
+//! One collapse step, shared by both orders ([`Engine::try_collapse`]): the candidate's current
+//! plan, the error limit, the checks (parking both ends of one that fails), the distance floor,
+//! and the commit. Then the collapse itself, in four stages (house.md §3): new vertices for the
+//! merged wedges, the corners and triangles around the edge, the surviving class's state and the
+//! log step, and the re-pricing of the edges whose plans changed (at once in the strict order,
+//! queued for the end of the pass in the batched one); and the level's reach, which lets open
+//! parts waiting for it go. Part of the collapse engine in `mod.rs`.
 
+use super::super::queue::Candidate;
 use super::super::topology::{other_corners, Kind, NONE};
 use super::super::{CollapseMode, Schedule};
+use super::checks::check;
 use super::costs::Costs;
 use super::mesh::Mesh;
 use super::record::Record;
@@ -14,13 +19,58 @@ use super::{Engine, Plan};
 use crate::progressive::{RawCornerChange, RawStep};
 use glam::{DVec3, Vec3};
 
+/// What [`Engine::try_collapse`] did with a candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Step {
+    /// The collapse is made and logged.
+    Committed,
+    /// The collapse is no longer valid, or is priced otherwise now (a vanishing part then goes
+    /// back in line at its new price, see [`Engine::current_plan`]).
+    Stale,
+    /// Over the error limit or the distance floor: skipped, and the run, when it ends for want
+    /// of candidates, ends at the limit.
+    OverFloor,
+    /// Failed a check: both ends are parked until a collapse nearby changes them.
+    Failed,
+}
+
 impl Engine<'_> {
+    /// One collapse step for a current, exact candidate (not a bound): re-plans it (which
+    /// leaves the pairing that the collapse uses), skips it over `max_mean_squared_error` or the
+    /// distance floor, parks both ends when it fails a check, and otherwise commits it.
+    pub(super) fn try_collapse(&mut self, entry: &Candidate, max_mean_squared_error: f32) -> Step {
+        let (u, v) = (entry.u(), entry.v);
+        // The stamp keeps 16 and 15 bits of the versions; a wrapped stamp is caught by the
+        // cost, which a current entry reproduces exactly, unless a part near it vanished
+        // (see `current_plan`).
+        let Some(plan) = self.current_plan(u, v, entry.cost()) else {
+            return Step::Stale;
+        };
+        if plan.mean_squared as f32 > max_mean_squared_error {
+            self.floors.over_floor = true;
+            return Step::OverFloor;
+        }
+        let steps = self.record.steps();
+        let Some((farthest, distance)) = check(&self.mesh, &mut self.floors, &mut self.scratch, steps, &plan)
+        else {
+            self.order.parked.park(u, v);
+            self.order.parked.park(v, u);
+            return Step::Failed;
+        };
+        if distance > self.floors.max_distance {
+            self.floors.over_floor = true;
+            return Step::OverFloor;
+        }
+        self.commit(&plan, farthest, distance);
+        Step::Committed
+    }
+
     /// The plan of `u → v` if it still costs `queued`, the cost its queue entry was keyed by;
     /// `None` for a collapse no longer valid or priced otherwise. A vanishing part's price changes
     /// with no version of its own changing: a closed part's rises when a part near it vanishes
     /// first (`clearance.rs`), an open part's moves with the live triangles near it (`plan.rs`).
     /// Such an entry goes back in line at its new price.
-    pub(super) fn current_plan(&mut self, u: u32, v: u32, queued: f32) -> Option<Plan> {
+    fn current_plan(&mut self, u: u32, v: u32, queued: f32) -> Option<Plan> {
         let plan = self.pricing().plan(u, v)?;
         let cost = plan.cost as f32;
         if cost == queued {
@@ -40,7 +90,7 @@ impl Engine<'_> {
     /// Applies a checked collapse that leaves input vertex `farthest` at `distance` from the
     /// level, the merged vertex tracking it; a part that vanishes with it leaves the clearance,
     /// and its farthest input points to the nearest parts left (`clearance.rs`).
-    pub(super) fn commit(&mut self, plan: &Plan, farthest: u32, distance: f64) {
+    fn commit(&mut self, plan: &Plan, farthest: u32, distance: f64) {
         let vanishing = self.mesh.vanishing_corner(plan.u, plan.v).is_some();
         self.apply(plan);
         self.floors.farthest_input[plan.v as usize] = farthest;
@@ -84,7 +134,7 @@ impl Engine<'_> {
 
     /// Performs a planned (and checked) collapse; `plan` must be the latest plan priced, whose
     /// pairing scratch it uses.
-    pub(super) fn apply(&mut self, plan: &Plan) {
+    fn apply(&mut self, plan: &Plan) {
         let step = self.record.steps() as u32 + 1;
         let (first_new, new_count) =
             merge_wedges(&self.mesh, &mut self.costs, &mut self.scratch, &mut self.record, plan, step);

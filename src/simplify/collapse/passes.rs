@@ -19,7 +19,7 @@
 
 use super::super::queue::Candidate;
 use super::super::StopReason;
-use super::checks::check;
+use super::apply::Step;
 use super::order::Order;
 use super::{Engine, Progress};
 
@@ -89,7 +89,6 @@ impl Engine<'_> {
             if target > 0 && self.mesh.live_triangles <= target {
                 return Some(StopReason::TargetReached);
             }
-            let (u, v) = (entry.u(), entry.v);
             // A class that took part in a collapse of this pass is locked: its version moved on.
             if !self.mesh.is_current(entry) {
                 continue;
@@ -97,26 +96,9 @@ impl Engine<'_> {
             // Re-planning fills the pairing scratch `apply` uses; the cost is still exact (no end
             // changed, no part near it vanished), and a wrapped 16-bit stamp shows here as a
             // different cost.
-            let Some(plan) = self.current_plan(u, v, entry.cost()) else {
-                continue;
-            };
-            if plan.mean_squared as f32 > max_mean_squared_error {
-                self.floors.over_floor = true;
-                continue;
+            if self.try_collapse(entry, max_mean_squared_error) == Step::Committed {
+                *running_max = running_max.max(entry.cost());
             }
-            let Some((farthest, distance)) =
-                check(&self.mesh, &mut self.floors, &mut self.scratch, self.record.steps(), &plan)
-            else {
-                self.order.parked.park(u, v);
-                self.order.parked.park(v, u);
-                continue;
-            };
-            if distance > self.floors.max_distance {
-                self.floors.over_floor = true;
-                continue;
-            }
-            self.commit(&plan, farthest, distance);
-            *running_max = running_max.max(entry.cost());
         }
         report(self.mesh.live_triangles);
         None

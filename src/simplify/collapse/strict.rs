@@ -6,7 +6,6 @@
 //! would have been due. Part of the collapse engine in `mod.rs`.
 
 use super::super::StopReason;
-use super::checks::check;
 use super::{Candidate, Engine, Progress};
 
 impl Engine<'_> {
@@ -31,37 +30,15 @@ impl Engine<'_> {
                 }
                 return self.floors.exhausted();
             };
-            let (u, v) = (entry.u(), entry.v);
             if !self.mesh.is_current(&entry) {
                 continue;
             }
             if entry.is_bound() {
                 // A deferred edge is due: price it; its exact entries take their place in order.
-                self.queue_edge(u, v, entry.cost());
+                self.queue_edge(entry.u(), entry.v, entry.cost());
                 continue;
             }
-            // The stamp keeps 16 and 15 bits of the versions; a wrapped stamp is caught by the
-            // cost, which a current entry reproduces exactly, unless a part near it vanished
-            // (see `requeue_repriced`).
-            let Some(plan) = self.current_plan(u, v, entry.cost()) else {
-                continue;
-            };
-            if plan.mean_squared as f32 > max_mean_squared_error {
-                self.floors.over_floor = true;
-                continue;
-            }
-            let Some((farthest, distance)) =
-                check(&self.mesh, &mut self.floors, &mut self.scratch, self.record.steps(), &plan)
-            else {
-                self.order.parked.park(u, v);
-                self.order.parked.park(v, u);
-                continue;
-            };
-            if distance > self.floors.max_distance {
-                self.floors.over_floor = true;
-                continue;
-            }
-            self.commit(&plan, farthest, distance);
+            self.try_collapse(&entry, max_mean_squared_error);
         }
     }
 }
