@@ -381,12 +381,12 @@ impl Index {
 
 /// The input's positions in each other pose, and their grids.
 fn posed_grids(
-    other_poses: Option<OtherPoses<'_>>,
+    poses: Option<OtherPoses<'_>>,
     input: &[Vec3],
     indices: &[u32],
     index: &Index,
 ) -> Vec<(Vec<Vec3>, Grid)> {
-    let Some(poses) = other_poses else { return Vec::new() };
+    let Some(poses) = poses else { return Vec::new() };
     (0..poses.count)
         .map(|f| {
             let positions: Vec<Vec3> =

@@ -162,3 +162,90 @@ impl Costs {
         distance
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::mesh::Mesh;
+    use super::*;
+    use glam::Vec3;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// A bent 3 × 3 grid (vertex `3y + x`, the middle row raised) with one priced channel that
+    /// varies across it: positions, indices, attributes.
+    fn grid() -> (Vec<Vec3>, Vec<u32>, Vec<f32>) {
+        let z = |i: u32| if i / 3 == 1 { 0.4 } else { 0.0 };
+        let positions = (0..9).map(|i| Vec3::new((i % 3) as f32, (i / 3) as f32, z(i))).collect();
+        let indices = [0, 1, 3, 4].iter().flat_map(|&i| [i, i + 1, i + 4, i, i + 4, i + 3]).collect();
+        let attributes = (0..9).map(|i| (i * i) as f32 * 0.1).collect();
+        (positions, indices, attributes)
+    }
+
+    /// The mesh and costs of `grid()`.
+    fn costs<'a>((positions, indices, attributes): &'a (Vec<Vec3>, Vec<u32>, Vec<f32>)) -> (Mesh<'a>, Costs) {
+        let input = SimplifyInput {
+            positions,
+            attributes,
+            attribute_weights: &[1.0],
+            indices,
+            triangle_materials: &[],
+            vertex_quadrics: None,
+            other_poses: None,
+            rigid_triangles: &[],
+        };
+        let (mesh, sides) = Mesh::new(&input, None);
+        let costs =
+            Costs::new(&mesh.classes, &sides, &mesh.input_normal, &input, &SimplifyOptions::default());
+        (mesh, costs)
+    }
+
+    #[test]
+    fn a_small_pair_is_ordered_as_if_it_were_a_fraction_of_the_mean() {
+        let grid = grid();
+        let (_, mut costs) = costs(&grid);
+        let mean = 4.0;
+        costs.inverse_mean_pair_area = 1.0 / mean;
+        // At or above SMALL_PAIR of the mean: the error over the mean area.
+        assert_eq!(costs.order_key(2.0, mean), 0.5);
+        assert_eq!(costs.order_key(2.0, SMALL_PAIR * mean), 0.5);
+        // Below: its mean squared error × SMALL_PAIR, as for a pair of that fraction.
+        let weight = 0.1 * mean;
+        assert!((costs.order_key(2.0, weight) - 2.0 / weight * SMALL_PAIR).abs() < 1e-12);
+        assert_eq!(costs.order_key(2.0, 0.0), 0.5, "no area: the mean");
+    }
+
+    #[test]
+    fn the_relaxed_quadric_lies_between_the_geometric_and_the_total() {
+        let grid = grid();
+        let (mesh, mut costs) = costs(&grid);
+        costs.relax_all(&mesh.classes);
+        let points = [DVec3::ZERO, DVec3::new(1.0, 1.0, 0.4), DVec3::new(-2.0, 3.0, 1.5)];
+        for c in 0..mesh.classes.count() {
+            for p in points {
+                let (geometric, relaxed, total) =
+                    (costs.geometric[c].error(p), costs.relaxed[c].error(p), costs.total[c].error(p));
+                let slack = 1e-9 * (1.0 + total.abs());
+                assert!(geometric <= relaxed + slack && relaxed <= total + slack, "class {c} at {p}");
+            }
+        }
+        assert!((0..9).any(|c| costs.relaxed[c].error(points[2]) < costs.total[c].error(points[2])));
+    }
+
+    #[test]
+    fn a_merged_class_takes_both_quadrics() {
+        let grid = grid();
+        let (mesh, mut costs) = costs(&grid);
+        costs.relax_all(&mesh.classes);
+        let (u, v) = (mesh.classes.class_of[4] as usize, mesh.classes.class_of[5] as usize);
+        let mut geometric = costs.geometric[u];
+        geometric += &costs.geometric[v];
+        let mut total = costs.total[u];
+        total += &costs.total[v];
+        let p = DVec3::new(1.5, 1.0, 0.4);
+        let distance = costs.merge_classes(&mesh.classes, u, v, p);
+        assert_eq!(costs.geometric[v], geometric);
+        assert_eq!(costs.total[v], total);
+        assert_eq!(distance, (geometric.error(p).max(0.0) / geometric.weight).sqrt());
+        assert_eq!(costs.relaxed[v], costs.relaxed_quadric(&mesh.classes, v), "the relaxed quadric follows");
+    }
+}

@@ -18,8 +18,13 @@ use super::super::topology::{
 };
 use super::super::SimplifyInput;
 use super::scratch::Marks;
-use super::stamp;
 use glam::{DVec3, Vec3};
+
+/// Low bits of both versions: 16 of `u`'s, 15 of `v`'s (the top bit marks a bound, see
+/// [`Candidate::bound`]).
+fn stamp(version_u: u32, version_v: u32) -> u32 {
+    (version_u & 0xFFFF) | ((version_v & 0x7FFF) << 16)
+}
 
 /// The mesh's topology and state (see the module docs).
 pub(super) struct Mesh<'a> {
@@ -133,7 +138,7 @@ impl Mesh<'_> {
     }
 
     /// Whether `candidate` is current: both its classes alive, neither changed since it was
-    /// queued (see [`super::stamp`]).
+    /// queued (see [`stamp`]).
     #[inline]
     pub(super) fn is_current(&self, candidate: &Candidate) -> bool {
         let (u, v) = (candidate.u() as usize, candidate.v as usize);
@@ -311,4 +316,104 @@ pub(super) fn all_faceted(wedges: &[u32], attributes: &[f32], stride: usize, cha
         let at = w as usize * stride + channel;
         attributes[at..at + 3] == [0.0; 3]
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// A 3 × 3 grid of vertices 0..9 (vertex `3y + x` at (x, y), each cell split along its
+    /// diagonal from `i` to `i + 4`), a lone triangle 9 10 11 far off, and a two-sided sheet on
+    /// vertices 12 13 14 (the same triangle both ways round).
+    fn mesh() -> (Vec<Vec3>, Vec<u32>) {
+        let mut positions: Vec<Vec3> =
+            (0..9).map(|i| Vec3::new((i % 3) as f32, (i / 3) as f32, 0.0)).collect();
+        positions.extend([Vec3::new(10.0, 0.0, 0.0), Vec3::new(11.0, 0.0, 0.0), Vec3::new(10.0, 1.0, 0.0)]);
+        positions.extend([Vec3::new(20.0, 0.0, 0.0), Vec3::new(21.0, 0.0, 0.0), Vec3::new(20.0, 1.0, 0.0)]);
+        let mut indices = Vec::new();
+        for i in [0, 1, 3, 4] {
+            indices.extend([i, i + 1, i + 4, i, i + 4, i + 3]);
+        }
+        indices.extend([9, 10, 11, 12, 13, 14, 12, 14, 13]);
+        (positions, indices)
+    }
+
+    fn input<'a>(positions: &'a [Vec3], indices: &'a [u32]) -> SimplifyInput<'a> {
+        SimplifyInput {
+            positions,
+            attributes: &[],
+            attribute_weights: &[],
+            indices,
+            triangle_materials: &[],
+            vertex_quadrics: None,
+            other_poses: None,
+            rigid_triangles: &[],
+        }
+    }
+
+    #[test]
+    fn neighbours_are_the_distinct_classes_around_a_class() {
+        let (positions, indices) = mesh();
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let class = |vertex: usize| mesh.classes.class_of[vertex];
+        let mut marks = Marks::new(mesh.classes.count());
+        let mut out = vec![99];
+        let mut sorted = |c: u32, out: &mut Vec<u32>| {
+            mesh.neighbours_into(c, &mut marks, out);
+            let mut found = out.clone();
+            found.sort_unstable();
+            found
+        };
+        let mut expected = [0, 1, 3, 5, 7, 8].map(class);
+        expected.sort_unstable();
+        assert_eq!(sorted(class(4), &mut out), expected, "the centre's ring, each once");
+        let mut expected = [1, 3, 4].map(class);
+        expected.sort_unstable();
+        assert_eq!(sorted(class(0), &mut out), expected, "cleared before filling");
+        assert_eq!(out.len(), 3);
+    }
+
+    #[test]
+    fn a_lone_triangle_or_sheet_vanishes_with_its_collapse() {
+        let (positions, indices) = mesh();
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let class = |vertex: usize| mesh.classes.class_of[vertex];
+        assert_eq!(mesh.lone_triangle_corner(class(9), class(10)), Some(class(11)));
+        assert_eq!(mesh.vanishing_corner(class(9), class(10)), Some(class(11)));
+        assert_eq!(mesh.lone_sheet_corner(class(12), class(13)), Some(class(14)));
+        assert_eq!(mesh.vanishing_corner(class(13), class(12)), Some(class(14)));
+        // The grid's collapses leave triangles behind, on its border too.
+        assert_eq!(mesh.vanishing_corner(class(4), class(5)), None);
+        assert_eq!(mesh.vanishing_corner(class(0), class(1)), None);
+        assert!(mesh.is_lone(&[12, 13, 14].map(class), 2));
+        assert!(mesh.has_triangle(class(4), class(5), class(8)));
+        assert!(!mesh.has_triangle(class(4), class(2), class(6)));
+    }
+
+    #[test]
+    fn border_edges_are_constraints_and_interior_ones_are_not() {
+        let (positions, indices) = mesh();
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let class = |vertex: usize| mesh.classes.class_of[vertex];
+        assert!(mesh.edge_is_constraint(class(0), class(1)), "one triangle");
+        assert!(!mesh.edge_is_constraint(class(4), class(5)), "two alike");
+        assert!(mesh.edge_is_constraint(class(0), class(8)), "no triangle: no manifold edge");
+    }
+
+    #[test]
+    fn a_candidate_is_current_until_a_class_changes_or_dies() {
+        let (positions, indices) = mesh();
+        let (mut mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let (u, v) = (mesh.classes.class_of[4], mesh.classes.class_of[5]);
+        let candidate = Candidate::new(1.0, u, v, mesh.stamp_of(u, v));
+        assert!(mesh.is_current(&candidate));
+        mesh.version[v as usize] += 1;
+        assert!(!mesh.is_current(&candidate), "v changed");
+        let candidate = Candidate::new(1.0, u, v, mesh.stamp_of(u, v));
+        assert!(mesh.is_current(&candidate));
+        mesh.alive[u as usize] = false;
+        assert!(!mesh.is_current(&candidate), "u died");
+    }
 }

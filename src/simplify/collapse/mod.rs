@@ -1,6 +1,25 @@
 //! The collapse engine: quadric set-up, the order of position-edge collapses, the validity checks
 //! (`checks.rs`), and the collapse itself, which appends to a [`CollapseLog`].
 //!
+//! The engine is six owned parts, each in its own file with its invariants, built in this order
+//! from the input (`Engine::new`):
+//! * `mesh.rs`, the mesh's topology and state: position classes and their kinds, corner lists,
+//!   every corner's wedge and class, live triangles, positions, versions;
+//! * `costs.rs`, what collapses are priced with: quadrics, wedge sums, priced channels;
+//! * `order.rs`, the candidates in their order (the strict heap, the passes' candidates) and the
+//!   classes parked by a failed check;
+//! * `floors.rs`, the floors besides the error limit and what they remember: the distance floor,
+//!   in other poses too (`poses.rs`), the clearance of parts (`clearance.rs`), how far the level
+//!   has reached and the open parts waiting for it;
+//! * `scratch.rs`, buffers one step fills and the next reuses;
+//! * `record.rs`, the log, the wedges' vertex ids in it, and the counts (`stats.rs`).
+//!
+//! A run queues every edge, then loops: the schedule (`strict.rs` or `passes.rs`) picks a
+//! candidate, and one step (`Engine::try_collapse`, `apply.rs`) re-plans it (`plan.rs`: pricing
+//! reads the mesh and the costs and writes the pairing), holds it to the error limit, checks it
+//! (`checks.rs`), holds it to the distance floor, and commits it (`apply.rs`), re-queueing the
+//! edges it changed. Work that needs several parts borrows each as it needs it.
+//!
 //! A collapse `u → v` removes position class `u`; every wedge of `u` merges with the wedge of `v`
 //! it shares the edge's triangles with (one edge collapse on positions merges every pair of wedges
 //! along it), so seams stay closed. Placement ([`Placement`], `plan.rs`): the quadric minimiser
@@ -8,7 +27,7 @@
 //! onto a seam that is on no outline (a uv or colour seam inside a smooth surface, which moves
 //! with it); the best point of the edge along a material line; `v`'s position for everything
 //! else (onto a border, material line or crease, onto a locked vertex, onto a hard corner of a
-//! rigid flat-shaded part (`hard_corners`), and every half-edge collapse). Planning and f64
+//! rigid flat-shaded part (`hard_corners` in `mesh.rs`), and every half-edge collapse). Planning and f64
 //! pricing are in `plan.rs`.
 //!
 //! Cost. A collapse's quadric error is an area-weighted sum of squared distances (Garland &
@@ -158,12 +177,6 @@ impl Progress {
             self.next_report = self.next_report.saturating_sub(self.step);
         }
     }
-}
-
-/// Low bits of both versions: 16 of `u`'s, 15 of `v`'s (the top bit marks a bound, see
-/// [`Candidate::bound`]).
-fn stamp(version_u: u32, version_v: u32) -> u32 {
-    (version_u & 0xFFFF) | ((version_v & 0x7FFF) << 16)
 }
 
 /// The collapse engine: a few owned parts, each with its own module and invariants. Work that

@@ -176,3 +176,72 @@ impl Parked {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// An order whose heap takes every entry pushed after it, up to a cost of 1e6: one entry
+    /// has gone through the heap, and the horizon is up at its key.
+    fn raised_order() -> Order {
+        let mut order = Order::new(Schedule::Strict, 0);
+        order.queue.push(Candidate::new(1e6, 0, 1, 0));
+        assert_eq!(order.pop(|_| true).map(|c| c.cost()), Some(1e6));
+        order
+    }
+
+    #[test]
+    fn pops_come_cheapest_first_and_a_grown_heap_is_purged() {
+        let mut order = raised_order();
+        // 3,000 entries (more than the first purge's 2,048 × 5/4), every third one stale.
+        for k in 0..3000u32 {
+            let cost = ((k * 7919) % 3000) as f32;
+            order.queue.push(Candidate::new(cost, k, k + 1, u32::from(k % 3 == 0)));
+        }
+        let current = |c: &Candidate| c.stamp() == 0;
+        let first = order.pop(current).unwrap();
+        assert_eq!(order.purged_length, 2000, "the stale thousand went in one purge");
+        assert_eq!(order.queue.len(), 1999);
+        let mut last = first.cost();
+        let mut count = 1;
+        while let Some(entry) = order.pop(current) {
+            assert!(current(&entry), "nothing stale is left");
+            assert!(entry.cost() >= last, "{} after {last}", entry.cost());
+            last = entry.cost();
+            count += 1;
+        }
+        assert_eq!(count, 2000);
+    }
+
+    #[test]
+    fn a_small_heap_is_not_purged() {
+        let mut order = raised_order();
+        order.queue.push(Candidate::new(1.0, 0, 1, 1));
+        order.queue.push(Candidate::new(2.0, 1, 2, 0));
+        // The stale entry comes back: the caller tells it from a current one.
+        assert_eq!(order.pop(|c| c.stamp() == 0).map(|c| c.cost()), Some(1.0));
+        assert_eq!(order.purged_length, 0);
+        assert_eq!(order.pop(|c| c.stamp() == 0).map(|c| c.cost()), Some(2.0));
+        assert_eq!(order.pop(|c| c.stamp() == 0), None);
+    }
+
+    #[test]
+    fn a_parked_class_gives_its_failed_partners_back_once() {
+        let mut parked = Parked::new(4);
+        assert!(!parked.is_parked(1));
+        parked.park(1, 2);
+        parked.park(3, 0);
+        parked.park(1, 3);
+        assert!(parked.is_parked(1) && parked.is_parked(3) && !parked.is_parked(0));
+        let mut partners = Vec::new();
+        parked.take(1, |p| partners.push(p));
+        assert_eq!(partners, [3, 2], "newest first");
+        assert!(!parked.is_parked(1));
+        parked.take(1, |_| panic!("taken already"));
+        parked.clear(3);
+        assert!(!parked.is_parked(3));
+        parked.take(3, |_| panic!("cleared"));
+    }
+}

@@ -156,3 +156,29 @@ impl Order {
         end
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::Schedule;
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn a_pass_takes_the_candidates_up_to_its_goal_in_order() {
+        let mut order = Order::new(Schedule::Passes, 0);
+        // Costs 12, 11, …, 1, and a stale one.
+        order.candidates = (0..12u32).map(|k| Candidate::new((12 - k) as f32, k, k + 1, 0)).collect();
+        order.candidates.push(Candidate::new(0.5, 20, 21, 1));
+        order.pick(|c| c.stamp() == 0);
+        assert_eq!(order.candidates.len(), 12);
+        // 12 live triangles: k = 12 / RANK_DIVISOR = 2, the 2nd cheapest (2) × GOAL_FACTOR.
+        assert_eq!(order.rank(12, 0.0), 2.0 * GOAL_FACTOR);
+        assert_eq!(order.rank(12, 7.0), 7.0, "never below the running maximum");
+        let first = order.sort(3.0);
+        assert_eq!(first, 9);
+        let taken: Vec<f32> = order.candidates[first..].iter().map(Candidate::cost).collect();
+        assert_eq!(taken, [1.0, 2.0, 3.0]);
+        assert!(order.candidates[..first].iter().all(|c| c.cost() > 3.0));
+    }
+}
