@@ -6,7 +6,7 @@
 //! the collapse engine in `mod.rs`.
 //!
 //! Also a cheap lower bound of that cost for an edge whose pricing the strict order defers
-//! (`Engine::queue_bounds`): a class's *relaxed* quadric gives each of its wedges its own best
+//! (`Order::queue_bounds`): a class's *relaxed* quadric gives each of its wedges its own best
 //! attributes, so it lies pointwise below the part of any pricing it enters (merging wedges or
 //! fixing their attributes only adds error), and the minimum of two relaxed quadrics' sum bounds
 //! every collapse along their edge, whatever its pairing and placement. Collapses only ever add
@@ -142,7 +142,7 @@ impl Pricing<'_, '_> {
         self.price(u, v, ku, kv, material_edge)
     }
 
-    /// Places and prices the collapse `u → v` whose wedge pairing [`Engine::plan`] just made;
+    /// Places and prices the collapse `u → v` whose wedge pairing [`Pricing::plan`] just made;
     /// `material_edge`: the edge separates two materials.
     fn price(&mut self, u: u32, v: u32, ku: Kind, kv: Kind, material_edge: bool) -> Option<Plan> {
         let (ui, vi) = (u as usize, v as usize);
@@ -262,7 +262,7 @@ impl Pricing<'_, '_> {
     /// its area (every surface merged into the sheet) times the mean squared clearance of the
     /// sheet's corners, their distance to the input's other parts (`clearance.rs`). An open
     /// part's last triangle (`u`, `v`, `x` on it alone) is priced otherwise, against the level
-    /// ([`Engine::open_part_vanishing_error`]). The plane quadric alone cannot see a part go: a sheet lies in its own planes, and a finger's side
+    /// ([`Pricing::open_part_vanishing_error`]). The plane quadric alone cannot see a part go: a sheet lies in its own planes, and a finger's side
     /// planes pass a point on its axis at half its thickness however long it is, so fingers
     /// vanished at robot.glb's 656-triangle level (4.1 % of the diagonal, Hausdorff). A part
     /// alone in its mesh is priced by the sheet's own spread instead (the mean squared distance

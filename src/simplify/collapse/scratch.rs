@@ -71,7 +71,7 @@ impl Marks {
     }
 }
 
-/// The wedge pairing of a planned collapse `u → v` (`Engine::plan` in `plan.rs`): which wedge of
+/// The wedge pairing of a planned collapse `u → v` (`Pricing::plan` in `plan.rs`): which wedge of
 /// `v` each wedge of `u` merges with.
 #[derive(Default)]
 pub(super) struct Pairing {

@@ -1,6 +1,6 @@
 //! The strict order ([`super::super::Schedule::Strict`]): one collapse at a time, always the
 //! cheapest valid one, from a 4-ary heap with lazy invalidation (`queue.rs`). Edges wait in the
-//! heap under a lower bound of their cost (`Engine::queue_bounds`) and are priced when the bound
+//! heap under a lower bound of their cost (`Order::queue_bounds`) and are priced when the bound
 //! reaches the top; since a bound never exceeds the exact key, the collapses come in exactly the
 //! order eager pricing gives, and most edges change again, and are bounded again, before they
 //! would have been due. Part of the collapse engine in `mod.rs`.
