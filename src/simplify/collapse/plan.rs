@@ -56,88 +56,9 @@ impl<'a> Engine<'a> {
 impl Pricing<'_, '_> {
     /// Pairs the wedges of `u` with those of `v` and prices the collapse `u → v`; `None` when the
     /// kinds forbid it, the classes no longer share an edge, or the pairing would tear a seam.
-    ///
-    /// Leaves the pairing in `u_pair` (per wedge of `u`: index into `v`'s wedges), `u_seen` (the
-    /// wedge is used by a live triangle) and `v_partner` (per wedge of `v`: index into `u`'s
-    /// wedges or NONE) for [`Engine::apply`].
+    /// Leaves the pairing (see [`pair_wedges`]) for [`Engine::apply`].
     pub(super) fn plan(&mut self, u: u32, v: u32) -> Option<Plan> {
-        let (ui, vi) = (u as usize, v as usize);
-        if u == v || !self.mesh.alive[ui] || !self.mesh.alive[vi] || self.mesh.kind[ui] == Kind::Locked {
-            return None;
-        }
-        let u_wedges = self.mesh.classes.wedges_of(u);
-        let v_wedges = self.mesh.classes.wedges_of(v);
-        self.pairing.u_pair.clear();
-        self.pairing.u_pair.resize(u_wedges.len(), NONE);
-        self.pairing.u_seen.clear();
-        self.pairing.u_seen.resize(u_wedges.len(), false);
-        let ku = self.mesh.kind[ui];
-        let kv = self.mesh.kind[vi];
-        if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
-            // The common case needs no scan: one wedge each pairs trivially, and an interior u
-            // has no line to stay on. Whether the edge still exists is checked before applying.
-            self.pairing.u_pair[0] = 0;
-            self.pairing.u_seen[0] = true;
-            self.pairing.v_partner.clear();
-            self.pairing.v_partner.push(0);
-            self.stats.pricings += 1;
-            return self.price(u, v, ku, kv, false);
-        }
-        let mut edge_triangles = 0;
-        let mut first_side = (NONE, NONE, NONE);
-        let mut constraint = false;
-        let mut material_edge = false;
-        for corner in self.mesh.lists.iter(u) {
-            let wu = self.mesh.corner_wedge[corner as usize];
-            let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
-            self.pairing.u_seen[iu] = true;
-            let (n, p) = other_corners(corner);
-            let v_corner = if self.mesh.class_at(n) == v {
-                n
-            } else if self.mesh.class_at(p) == v {
-                p
-            } else {
-                continue;
-            };
-            edge_triangles += 1;
-            let wv = self.mesh.corner_wedge[v_corner as usize];
-            let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
-            if self.pairing.u_pair[iu] == NONE {
-                self.pairing.u_pair[iu] = iv;
-            } else if self.pairing.u_pair[iu] != iv {
-                return None; // one wedge of u would have to follow two wedges of v
-            }
-            let material = self.mesh.materials.get(corner as usize / 3).copied().unwrap_or(0);
-            if edge_triangles == 1 {
-                first_side = (wu, wv, material);
-            } else {
-                constraint |= first_side != (wu, wv, material);
-                material_edge |= first_side.2 != material;
-            }
-        }
-        if edge_triangles == 0 || edge_triangles > 2 {
-            return None;
-        }
-        constraint |= edge_triangles == 1;
-        if ku.on_line() && !constraint {
-            return None; // a line vertex collapses only along its line
-        }
-        // A junction may go along any edge: the pairing below admits it only when every wedge it
-        // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
-        // ends there) but never merge the two sides of a seam.
-        // Every used wedge of u needs its own wedge of v: no seam opens or closes.
-        self.pairing.v_partner.clear();
-        self.pairing.v_partner.resize(v_wedges.len(), NONE);
-        for iu in 0..u_wedges.len() {
-            if !self.pairing.u_seen[iu] {
-                continue;
-            }
-            let iv = self.pairing.u_pair[iu];
-            if iv == NONE || self.pairing.v_partner[iv as usize] != NONE {
-                return None;
-            }
-            self.pairing.v_partner[iv as usize] = iu as u32;
-        }
+        let (ku, kv, material_edge) = pair_wedges(self.mesh, self.pairing, u, v)?;
         self.stats.pricings += 1;
         self.price(u, v, ku, kv, material_edge)
     }
@@ -311,4 +232,91 @@ impl Pricing<'_, '_> {
             Err(None) => f64::INFINITY,
         }
     }
+}
+
+/// Pairs the wedges of `u` with those of `v` for the collapse `u → v`: into `pairing`, `u_pair`
+/// (per wedge of `u`: index into `v`'s wedges), `u_seen` (the wedge is used by a live triangle)
+/// and `v_partner` (per wedge of `v`: index into `u`'s wedges or NONE). Returns the kinds of `u`
+/// and `v` and whether the edge separates two materials; `None` when the kinds forbid the
+/// collapse, the classes no longer share an edge, or the pairing would tear a seam. (A function
+/// of the parts, not a method of [`Pricing`], so that the compiler knows the pairing's writes
+/// leave the mesh as it was.)
+fn pair_wedges(mesh: &Mesh, pairing: &mut Pairing, u: u32, v: u32) -> Option<(Kind, Kind, bool)> {
+    let (ui, vi) = (u as usize, v as usize);
+    if u == v || !mesh.alive[ui] || !mesh.alive[vi] || mesh.kind[ui] == Kind::Locked {
+        return None;
+    }
+    let u_wedges = mesh.classes.wedges_of(u);
+    let v_wedges = mesh.classes.wedges_of(v);
+    pairing.u_pair.clear();
+    pairing.u_pair.resize(u_wedges.len(), NONE);
+    pairing.u_seen.clear();
+    pairing.u_seen.resize(u_wedges.len(), false);
+    let ku = mesh.kind[ui];
+    let kv = mesh.kind[vi];
+    if ku == Kind::Interior && u_wedges.len() == 1 && v_wedges.len() == 1 {
+        // The common case needs no scan: one wedge each pairs trivially, and an interior u
+        // has no line to stay on. Whether the edge still exists is checked before applying.
+        pairing.u_pair[0] = 0;
+        pairing.u_seen[0] = true;
+        pairing.v_partner.clear();
+        pairing.v_partner.push(0);
+        return Some((ku, kv, false));
+    }
+    let mut edge_triangles = 0;
+    let mut first_side = (NONE, NONE, NONE);
+    let mut constraint = false;
+    let mut material_edge = false;
+    for corner in mesh.lists.iter(u) {
+        let wu = mesh.corner_wedge[corner as usize];
+        let iu = u_wedges.iter().position(|&w| w == wu).unwrap_or(0);
+        pairing.u_seen[iu] = true;
+        let (n, p) = other_corners(corner);
+        let v_corner = if mesh.class_at(n) == v {
+            n
+        } else if mesh.class_at(p) == v {
+            p
+        } else {
+            continue;
+        };
+        edge_triangles += 1;
+        let wv = mesh.corner_wedge[v_corner as usize];
+        let iv = v_wedges.iter().position(|&w| w == wv).unwrap_or(0) as u32;
+        if pairing.u_pair[iu] == NONE {
+            pairing.u_pair[iu] = iv;
+        } else if pairing.u_pair[iu] != iv {
+            return None; // one wedge of u would have to follow two wedges of v
+        }
+        let material = mesh.materials.get(corner as usize / 3).copied().unwrap_or(0);
+        if edge_triangles == 1 {
+            first_side = (wu, wv, material);
+        } else {
+            constraint |= first_side != (wu, wv, material);
+            material_edge |= first_side.2 != material;
+        }
+    }
+    if edge_triangles == 0 || edge_triangles > 2 {
+        return None;
+    }
+    constraint |= edge_triangles == 1;
+    if ku.on_line() && !constraint {
+        return None; // a line vertex collapses only along its line
+    }
+    // A junction may go along any edge: the pairing below admits it only when every wedge it
+    // uses follows one wedge of v, so a seam end can move onto a neighbour (the seam then
+    // ends there) but never merge the two sides of a seam.
+    // Every used wedge of u needs its own wedge of v: no seam opens or closes.
+    pairing.v_partner.clear();
+    pairing.v_partner.resize(v_wedges.len(), NONE);
+    for iu in 0..u_wedges.len() {
+        if !pairing.u_seen[iu] {
+            continue;
+        }
+        let iv = pairing.u_pair[iu];
+        if iv == NONE || pairing.v_partner[iv as usize] != NONE {
+            return None;
+        }
+        pairing.v_partner[iv as usize] = iu as u32;
+    }
+    Some((ku, kv, material_edge))
 }
