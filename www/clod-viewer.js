@@ -764,6 +764,14 @@ export class ClodViewerElement extends HTMLElement {
     const canvas = this.#canvas;
     if (canvas.dataset.wired) return;
     canvas.dataset.wired = '1';
+    // WebGL2 tells the page, not wgpu, when the GPU takes its context away (a driver reset, too
+    // many contexts): the canvas stays blank from then on. (WebGPU's device loss reaches
+    // `state().errors` from the renderer.)
+    canvas.addEventListener('webglcontextlost', () => {
+      if (canvas !== this.#canvas) return;
+      this.#broken = true;
+      this.#fail(coded(new Error('The GPU took the viewer\'s WebGL2 context away (a driver reset, or too many 3D pages open); reload the page to draw again.'), 'render'));
+    });
     const DEGREES_PER_PIXEL = 0.4;
     canvas.addEventListener('pointerdown', (e) => {
       this.#pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });

@@ -153,7 +153,10 @@ test('webgl2: a lost GPU context is one `render` error, and the viewer stops dra
   await waitFor(page, 'lod', 1);
   await page.evaluate(() => document.querySelector('clod-viewer > canvas').getContext('webgl2').getExtension('WEBGL_lose_context').loseContext());
   await waitFor(page, 'error', 1);
+  const frames = () => page.evaluate(() => document.getElementById('viewer').state().frames);
+  const stopped = await frames();
   for (let i = 0; i < 3; i++) await someFrames(page);
+  assert.equal(await frames(), stopped, 'no frame is drawn into a lost context');
   const errors = (await events(page)).filter((e) => e.type === 'error');
   assert.deepEqual(errors.map((e) => e.code), ['render'], JSON.stringify(errors));
   assert.doesNotMatch(errors[0].message, /wgpu|Validation/);
