@@ -1,21 +1,41 @@
 #!/usr/bin/env bash
-# Runs every test: formatting, lints (native and wasm32), native tests, the same tests under node
-# (wasm-pack test --node), the JavaScript API from node, and the viewer in headless Chromium.
-# Installs missing tools first (Rust target, wasm-bindgen-cli, wasm-pack, npm packages, Debian chromium).
-# Fails if any suite — or any test file within one — ran zero tests.
+# Runs every test: formatting, the paths named in the docs, lints (native and wasm32), native tests,
+# the same tests under node (wasm-pack test --node), the JavaScript API from node, and the viewer in
+# headless Chromium. Installs missing tools first (Rust target, wasm-bindgen-cli, wasm-pack, npm
+# packages, Debian chromium). Fails if any suite — or any test file within one — ran zero tests.
+# Each step's time goes to target/test-logs/timings.txt (docs/testing.md).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/tools.sh"
 cd "$root"
-ensure_wasm_tools
-ensure_npm_packages
 
 logs="$root/target/test-logs"
 mkdir -p "$logs"
 summary="$logs/summary.txt"
+timings="$logs/timings.txt"
 : > "$summary"
+: > "$timings"
 target="$(manifest tools.rust-target)"
+# A fresh clone's build never reuses an incremental cache; not writing one saves its time.
+export CARGO_INCREMENTAL=0
 
-step() { echo; echo "== $*"; }
+step_name=""
+step_started=$SECONDS
+step() {
+  [ -n "$step_name" ] && printf '%5d s  %s\n' $((SECONDS - step_started)) "$step_name" >> "$timings"
+  step_name="$*"
+  step_started=$SECONDS
+  echo
+  echo "== $*"
+}
+
+# Debian's chromium is a download, not a build: apt fetches it while the CPUs compile.
+chromium_log="$logs/chromium-install.log"
+ensure_chromium > "$chromium_log" 2>&1 &
+chromium_install=$!
+
+step "tools: the wasm32 target, wasm-bindgen-cli and wasm-pack, npm packages"
+ensure_wasm_tools
+ensure_npm_packages
 
 step "cargo fmt --check"
 cargo fmt --all --check
@@ -23,7 +43,7 @@ cargo fmt --all --check
 step "paths named in docs and comments exist"
 node scripts/check-paths.mjs
 
-step "clippy (native, all targets; wasm32 library with the JS API)"
+step "clippy (native, all targets; wasm32 library with the JS API, and with the renderer)"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest webgl.features)" -- -D warnings
@@ -49,15 +69,21 @@ step "the same tests under node (wasm-pack test --node)"
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
 
-step "JavaScript API from node (wasm-pack build --target nodejs)"
-build_wasm node
+step "JavaScript API from node (the WebGPU page's release wasm, bound for node)"
+build_wasm web
+node_from_web
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
 
 step "browser tests: the viewer in headless Chromium (WebGPU and WebGL2 on SwiftShader)"
-ensure_chromium
+if ! wait "$chromium_install"; then
+  cat "$chromium_log" >&2
+  exit 1
+fi
 bash scripts/browser-test.sh 2>&1 | tee "$logs/browser.log"
 node scripts/count-tests.mjs browser "$logs/browser.log" "$summary"
 
+step "done"
 echo
+cat "$timings"
 awk '{p += $2; f += $3} END {printf "total: %d passed, %d failed\n", p, f}' "$summary"

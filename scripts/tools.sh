@@ -16,25 +16,40 @@ ensure_rust_target() {
   fi
 }
 
-ensure_cargo_tool() { # ensure_cargo_tool CRATE BINARY VERSION
-  local crate="$1" bin="$2" version="$3"
-  if ! "$bin" --version 2>/dev/null | grep -q " $version\b"; then
-    echo "== installing $crate $version (cargo install --locked; a few minutes the first time)"
-    cargo install --locked "$crate" --version "=$version"
-  fi
-}
+# Whether BINARY --version names VERSION.
+has_tool() { "$1" --version 2>/dev/null | grep -q " $2\b"; }
 
 ensure_wasm_tools() {
   ensure_rust_target
-  local wb; wb="$(manifest tools.wasm-bindgen-cli)"
+  local wb wp; wb="$(manifest tools.wasm-bindgen-cli)"; wp="$(manifest tools.wasm-pack)"
   # The CLI must match the library exactly, or generated bindings and the runtime disagree.
   if ! grep -A1 '^name = "wasm-bindgen"$' "$root/Cargo.lock" | grep -q "version = \"$wb\""; then
     echo "wasm-pack.toml pins wasm-bindgen-cli $wb but Cargo.lock has another wasm-bindgen:" >&2
     grep -A1 '^name = "wasm-bindgen"$' "$root/Cargo.lock" >&2
     exit 1
   fi
-  ensure_cargo_tool wasm-bindgen-cli wasm-bindgen "$wb"
-  ensure_cargo_tool wasm-pack wasm-pack "$(manifest tools.wasm-pack)"
+  # Both at once when both are missing: each build ends in a long single-threaded link, so two
+  # side by side keep both cores busy (3.1 minutes one after the other on 2 cores).
+  local installs=() crate bin version
+  for tool in "wasm-bindgen-cli wasm-bindgen $wb" "wasm-pack wasm-pack $wp"; do
+    read -r crate bin version <<<"$tool"
+    has_tool "$bin" "$version" && continue
+    echo "== installing $crate $version (cargo install --locked; a few minutes the first time)"
+    local log; log="$(mktemp)"
+    cargo install --locked --quiet "$crate" --version "=$version" >"$log" 2>&1 &
+    installs+=("$!:$crate:$log")
+  done
+  local entry failed=0
+  for entry in ${installs[@]+"${installs[@]}"}; do
+    IFS=: read -r pid crate log <<<"$entry"
+    if ! wait "$pid"; then
+      echo "cargo install $crate failed:" >&2
+      cat "$log" >&2
+      failed=1
+    fi
+    rm -f "$log"
+  done
+  [ "$failed" = 0 ]
 }
 
 # Debian's Chromium for the browser tests (never a browser downloaded by a test tool).
@@ -52,6 +67,16 @@ ensure_npm_packages() {
     echo "== npm ci"
     (cd "$root" && npm ci --no-audit --no-fund)
   fi
+}
+
+# node_from_web: the JavaScript API for node (wasm-pack.toml [node]: out dir and name) made by
+# wasm-bindgen from the WebGPU page's release wasm, which `build_wasm web` has just built. That wasm
+# has the same API (`Character`, `Clod`) and the viewer's classes beside it, which node never
+# calls, so the node tests need no third release build of the crate.
+node_from_web() {
+  wasm-bindgen --target nodejs \
+    --out-dir "$root/$(manifest node.out-dir)" --out-name "$(manifest node.out-name)" \
+    "$root/target/$(manifest tools.rust-target)/release/clod_viewer.wasm"
 }
 
 # build_wasm SECTION: wasm-pack build with the target, out dir and features of wasm-pack.toml [SECTION].
