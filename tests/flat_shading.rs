@@ -6,7 +6,7 @@ mod common;
 use clod_viewer::clod::{self, shading::face_normal, ClodOptions, SimplificationPose};
 use clod_viewer::mesh::PrimitiveRange;
 use clod_viewer::render::lod_source::LodSource;
-use clod_viewer::simplify::{simplify, SimplifyInput, SimplifyOptions};
+use clod_viewer::simplify::{simplify, Rule, Rules, SimplifyInput, SimplifyOptions};
 use clod_viewer::skeleton::{Node, SkinJoint, Transform};
 use clod_viewer::{Character, Skeleton, SkinnedMesh};
 use glam::{Mat4, Vec3};
@@ -408,7 +408,7 @@ fn uvs_no_texture_samples_do_not_hold_the_levels() {
 
 /// The unit cube as the simplifier sees a flat-shaded one: 8 welded corners, 12 triangles wound
 /// outward, every normal zero (faceted, not priced), and every triangle rigid or none.
-fn faceted_cube_levels(rigid: &[bool]) -> Vec<Vec<Vec3>> {
+fn faceted_cube_levels(rigid: &[bool], rules: Rules) -> Vec<Vec<Vec3>> {
     let positions: Vec<Vec3> =
         (0..8).map(|i| Vec3::new((i & 1) as f32, (i >> 1 & 1) as f32, (i >> 2 & 1) as f32)).collect();
     let indices: Vec<u32> = vec![
@@ -431,7 +431,7 @@ fn faceted_cube_levels(rigid: &[bool]) -> Vec<Vec<Vec3>> {
         rigid_triangles: rigid,
     };
     let options =
-        SimplifyOptions { normal_channel: Some(0), target_triangles: 6, ..SimplifyOptions::default() };
+        SimplifyOptions { normal_channel: Some(0), target_triangles: 6, rules, ..SimplifyOptions::default() };
     let pm = simplify(&input, &options).expect("a valid cube");
     assert!(pm.collapse_count() >= 2, "the cube simplifies: {} collapses", pm.collapse_count());
     (1..=pm.collapse_count())
@@ -449,11 +449,14 @@ fn a_rigid_faceted_box_keeps_its_corners_where_a_skinned_one_places_freely() {
     let is_corner = |p: &Vec3| *p == p.round() && p.min_element() >= 0.0 && p.max_element() <= 1.0;
     // Rigid: every collapse goes into a hard corner (three faces at right angles) and leaves it
     // where it is, so every level is a subset of the cube's corners.
-    for (k, level) in faceted_cube_levels(&[true; 12]).iter().enumerate() {
+    for (k, level) in faceted_cube_levels(&[true; 12], Rules::ALL).iter().enumerate() {
         assert!(level.iter().all(is_corner), "level {}: {level:?}", k + 1);
     }
     // Without rigid triangles the merged planes place the first vertex at the minimiser, the
     // middle of the collapsed edge (its two end faces pull equally): not a corner.
-    let free = faceted_cube_levels(&[]);
+    let free = faceted_cube_levels(&[], Rules::ALL);
     assert!(!free[0].iter().all(is_corner), "free placement: {:?}", free[0]);
+    // The rule is what keeps them: without it the rigid box is placed freely too.
+    let unruled = faceted_cube_levels(&[true; 12], Rules::ALL.without(Rule::HardCorners));
+    assert_eq!(unruled[0], free[0], "without the rule");
 }

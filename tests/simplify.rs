@@ -5,8 +5,8 @@ mod meshgen;
 use clod_viewer::metrics::closest_point_on_triangle;
 use clod_viewer::progressive::ProgressiveMesh;
 use clod_viewer::simplify::{
-    simplify, CollapseMode, OtherPoses, Quadric, Schedule, SimplifyError, SimplifyInput, SimplifyOptions,
-    StopReason,
+    simplify, CollapseMode, OtherPoses, Quadric, Rule, Rules, Schedule, SimplifyError, SimplifyInput,
+    SimplifyOptions, StopReason,
 };
 use glam::{DVec3, Vec3};
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, Mesh};
@@ -139,6 +139,27 @@ fn a_part_beside_another_vanishes_before_one_standing_alone() {
         );
         check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), true);
     }
+    // The lone tetrahedron half as large: by its planes alone it is the cheaper part to lose, and
+    // without the rule it goes first; priced by clearance, the one beside the cube still does.
+    let mut small_lone = Mesh::default();
+    for part in [
+        place(tetrahedron(), 0.5, Vec3::new(30.0, 0.0, 0.0)),
+        place(tetrahedron(), 1.0, Vec3::new(10.1, 0.0, 0.0)),
+        place(cube(), 10.0, Vec3::ZERO),
+    ] {
+        let base = small_lone.positions.len() as u32;
+        small_lone.positions.extend(&part.positions);
+        small_lone.indices.extend(part.indices.iter().map(|&i| i + base));
+    }
+    let lone_left = |rules: Rules| {
+        let pm = small_lone.simplify(&SimplifyOptions { rules, ..options(CollapseMode::Full, 14) });
+        pm.indices_at(pm.collapse_count()).iter().any(|&v| pm.positions[v as usize].x >= 30.0)
+    };
+    assert!(lone_left(Rules::ALL), "priced by clearance, the part beside the cube goes first");
+    assert!(
+        !lone_left(Rules::ALL.without(Rule::ClosedPartsByClearance)),
+        "without the rule the small lone part goes first"
+    );
 }
 
 /// A flat 6 × 5 plate at z = 0 (60 triangles) and `triangles`, each a lone open part.
@@ -269,6 +290,26 @@ fn open_parts_vanish_nearest_the_level_first() {
             check_invariants(&mesh, &pm, &(0..=k).collect::<Vec<_>>(), false);
         }
     }
+    // The same parts, the small far triangle first in the input, where ties favour it going
+    // first: the rule still lets the nearer one go first. Without it a vanishing triangle leaves
+    // its points with no surface around them, which the distance floor measures as infinitely
+    // far: neither goes, and the run stops at the floor with both.
+    let reversed = plate_with_triangles(&[
+        [Vec3::new(4.0, 2.0, 0.6), Vec3::new(4.3, 2.0, 0.6), Vec3::new(4.0, 2.3, 0.6)],
+        [Vec3::new(2.0, 2.0, 0.3), Vec3::new(3.0, 2.0, 0.3), Vec3::new(2.0, 3.0, 0.3)],
+    ]);
+    let end = |rules: Rules| {
+        let pm = reversed.simplify(&SimplifyOptions {
+            max_distance: 1.0,
+            rules,
+            ..options(CollapseMode::Full, 3)
+        });
+        let zs: Vec<f32> =
+            pm.indices_at(pm.collapse_count()).iter().map(|&v| pm.positions[v as usize].z).collect();
+        (pm.stop, zs.iter().filter(|&&z| z == 0.6).count(), zs.iter().filter(|&&z| z == 0.3).count())
+    };
+    assert_eq!(end(Rules::ALL), (StopReason::TargetReached, 3, 0), "the small, far triangle is left");
+    assert_eq!(end(Rules::ALL.without(Rule::OpenPartsWithinReach)), (StopReason::MaxErrorReached, 3, 3));
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
@@ -466,6 +507,11 @@ fn a_seam_moves_with_its_surface_and_a_crease_stays() {
     let seam = split_grid(Vec3::Z, Vec3::Z, 1.0);
     let pm = seam.simplify(&opts);
     assert!(wedge_moved_alone(&pm), "no collapse onto the seam moved it");
+    let rules = Rules::ALL.without(Rule::SeamsMoveWithSurface);
+    assert!(
+        !wedge_moved_alone(&seam.simplify(&SimplifyOptions { rules, ..opts })),
+        "without the rule the seam stays"
+    );
     check_invariants(&seam, &pm, &(0..=pm.collapse_count()).collect::<Vec<_>>(), false);
     // The normal turns by 74° across the column, u continuous: a crease. A collapse onto it keeps
     // the crease vertex where it is (its own line may still move along itself).
@@ -607,6 +653,14 @@ fn a_bent_plate_keeps_its_bulge() {
     // Not far out: the arc's sagitta over its whole 120° is 0.5.
     assert!(outermost < 1.5, "{outermost}");
     check_invariants(&mesh, &pm, &(0..=k_end).collect::<Vec<_>>(), false);
+    // Without the rule the border vertices keep to their edges: chords, inside the arc.
+    let rules = Rules::ALL.without(Rule::LinesMergeFree);
+    let pm = mesh.simplify(&SimplifyOptions { rules, ..options(CollapseMode::Full, 2) });
+    let outermost = (0..=pm.collapse_count())
+        .flat_map(|k| pm.indices_at(k))
+        .map(|v| pm.positions[v as usize].truncate().length())
+        .fold(0.0, f32::max);
+    assert!(outermost <= 1.0001, "without the rule a vertex left the arc: {outermost}");
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
@@ -726,6 +780,10 @@ fn max_distance_keeps_a_ridge_that_the_quadric_floor_cuts() {
         let both = mesh.simplify(&SimplifyOptions { max_distance: limit, ..floor });
         assert_eq!(both.stop, StopReason::MaxErrorReached, "{schedule:?}");
         assert!(farthest(&both) <= limit, "{schedule:?}: {}", farthest(&both));
+        // The rule is what holds it: left out, the distance is only measured.
+        let rules = Rules::ALL.without(Rule::DistanceFloor);
+        let unruled = mesh.simplify(&SimplifyOptions { max_distance: limit, rules, ..floor });
+        assert_eq!(unruled.collapses, quadric_only.collapses, "{schedule:?}");
         // The same collapses up to the first one the distance floor skips.
         let same = both.collapses.iter().zip(&quadric_only.collapses).take_while(|(a, b)| a == b).count();
         assert!(same > 0 && same < quadric_only.collapse_count(), "{schedule:?}");
@@ -762,6 +820,14 @@ fn max_distance_keeps_a_knee_that_another_pose_bends() {
             simplify(&SimplifyInput { other_poses: Some(poses), ..mesh.input() }, &options).unwrap();
         assert_eq!(with_bent.collapse_count(), 0, "{schedule:?}");
         assert_eq!(with_bent.stop, StopReason::MaxErrorReached, "{schedule:?}");
+        // Without the rule the other pose is not asked.
+        let rules = Rules::ALL.without(Rule::DistanceFloorInPoses);
+        let unruled = simplify(
+            &SimplifyInput { other_poses: Some(poses), ..mesh.input() },
+            &SimplifyOptions { rules, ..options },
+        )
+        .unwrap();
+        assert_eq!(unruled.collapses, straight_only.collapses, "{schedule:?}");
         // With room for the chord, the knee goes.
         let loose = SimplifyOptions { max_distance: 0.6, ..options };
         let with_loose =

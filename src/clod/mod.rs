@@ -33,7 +33,7 @@ use crate::character::Character;
 use crate::morph::MorphDeltas;
 use crate::progressive::{ProgressiveMesh, NONE};
 use crate::simplify::{
-    self, CollapseMode, OtherPoses, Schedule, SimplifyError, SimplifyInput, SimplifyOptions,
+    self, CollapseMode, OtherPoses, Rules, Schedule, SimplifyError, SimplifyInput, SimplifyOptions,
 };
 use crate::skinning;
 pub use chain::{LodLevel, StoppedShort};
@@ -72,6 +72,11 @@ pub struct ClodOptions {
     ///
     /// Default value: [`Schedule::Strict`].
     pub schedule: Schedule,
+    /// The simplifier's special rules ([`crate::simplify::rules`]); leaving one out is for
+    /// measuring what it pays.
+    ///
+    /// Default value: [`Rules::ALL`].
+    pub rules: Rules,
 }
 
 /// Default [`ClodOptions::max_relative_error`]: 5 % of the diagonal. Near the end of a simplification the
@@ -110,6 +115,7 @@ impl Default for ClodOptions {
             weights: WeightRule::default(),
             max_relative_error: DEFAULT_MAX_ERROR,
             schedule: Schedule::Strict,
+            rules: Rules::ALL,
         }
     }
 }
@@ -255,6 +261,7 @@ pub fn build(
         max_mean_squared_error: max_distance.powi(2),
         max_distance,
         schedule: options.schedule,
+        rules: options.rules,
     };
     let pm = simplify::simplify_with_progress(&simplify_input, &simplify_options, &mut |f| {
         progress(0.15 + 0.65 * f)

@@ -24,11 +24,13 @@ mod clearance;
 mod collapse;
 pub mod quadric;
 mod queue;
+pub mod rules;
 mod topology;
 mod vertex_quadrics;
 
 pub use collapse::{pricing_stats, PricingStats};
 pub use quadric::Quadric;
+pub use rules::{Rule, Rules};
 
 use crate::progressive::ProgressiveMesh;
 pub use crate::progressive::StopReason;
@@ -151,6 +153,11 @@ pub struct SimplifyOptions {
     ///
     /// Default value: [`Schedule::Strict`].
     pub schedule: Schedule,
+    /// The special rules the engine applies (see [`rules`]); leaving one out is for measuring
+    /// what it pays.
+    ///
+    /// Default value: [`Rules::ALL`].
+    pub rules: Rules,
 }
 
 impl Default for SimplifyOptions {
@@ -162,6 +169,7 @@ impl Default for SimplifyOptions {
             max_distance: f32::INFINITY,
             normal_channel: None,
             schedule: Schedule::Strict,
+            rules: Rules::ALL,
         }
     }
 }

@@ -57,7 +57,7 @@ impl Engine<'_> {
             self.order.parked.park(v, u);
             return Step::Failed;
         };
-        if distance > self.floors.max_distance {
+        if self.floors.distance_floor && distance > self.floors.max_distance {
             self.floors.over_floor = true;
             return Step::OverFloor;
         }

@@ -85,7 +85,8 @@ pub(super) fn check(
         // One that would leave a point beyond the floor counts as infinitely far.
         let sheet = [u, v, opposite[0]];
         return mesh.is_lone(&sheet, 2).then(|| {
-            let distance = if floors.vanishes_within_floor(mesh, sheet) { 0.0 } else { f64::INFINITY };
+            let within = !floors.distance_floor || floors.vanishes_within_floor(mesh, sheet);
+            let distance = if within { 0.0 } else { f64::INFINITY };
             (floors.farthest_input[v as usize], distance)
         });
     }
@@ -108,7 +109,7 @@ pub(super) fn check(
             return None;
         }
     }
-    if count == 1 && mesh.lone_triangle_corner(u, v).is_some() {
+    if count == 1 && floors.open_parts_within_reach && mesh.lone_triangle_corner(u, v).is_some() {
         // A lone open triangle: its part vanishes no farther from the level than the level
         // has reached (its price, `plan.rs`), and within the floor in the other poses.
         let reached = floors.reached_distance;

@@ -16,7 +16,7 @@ use super::super::channels::Channels;
 use super::super::quadric::Quadric;
 use super::super::topology::{ConstraintSide, PositionClasses};
 use super::super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
-use super::super::{CollapseMode, SimplifyInput, SimplifyOptions};
+use super::super::{CollapseMode, Rule, Rules, SimplifyInput, SimplifyOptions};
 use super::mesh::all_faceted;
 use glam::DVec3;
 
@@ -37,6 +37,8 @@ pub(super) const SMALL_PAIR: f64 = 0.3;
 pub(super) struct Costs {
     /// [`SimplifyOptions::mode`].
     pub(super) mode: CollapseMode,
+    /// [`SimplifyOptions::rules`]: the pricing asks it how to place and price.
+    pub(super) rules: Rules,
     /// Attribute channels per vertex.
     pub(super) channels: usize,
     /// [`SimplifyOptions::normal_channel`].
@@ -88,6 +90,7 @@ impl Costs {
             2.0 * geometric.iter().map(|q| q.weight).sum::<f64>() / classes.count().max(1) as f64;
         Costs {
             mode: options.mode,
+            rules: options.rules,
             channels: input.attribute_weights.len(),
             normal_channel: options.normal_channel,
             inverse_weights: priced.priced.iter().map(|&(_, w)| 1.0 / w as f64).collect(),
@@ -104,9 +107,10 @@ impl Costs {
 
     /// The order key of a collapse whose quadric error is `error` over a pair of area `weight`
     /// (see the module docs of `mod.rs`): the error over the mean pair area, or for a pair
-    /// smaller than [`SMALL_PAIR`] of the mean, over its own area divided by `SMALL_PAIR`.
+    /// smaller than [`SMALL_PAIR`] of the mean, over its own area divided by `SMALL_PAIR`
+    /// ([`Rule::SmallPairs`]).
     pub(super) fn order_key(&self, error: f64, weight: f64) -> f64 {
-        if weight > 0.0 {
+        if weight > 0.0 && self.rules.has(Rule::SmallPairs) {
             error * self.inverse_mean_pair_area.max(SMALL_PAIR / weight)
         } else {
             error * self.inverse_mean_pair_area
@@ -193,7 +197,7 @@ mod tests {
             other_poses: None,
             rigid_triangles: &[],
         };
-        let (mesh, sides) = Mesh::new(&input, None);
+        let (mesh, sides) = Mesh::new(&input, None, Rules::ALL);
         let costs =
             Costs::new(&mesh.classes, &sides, &mesh.input_normal, &input, &SimplifyOptions::default());
         (mesh, costs)
@@ -212,6 +216,10 @@ mod tests {
         let weight = 0.1 * mean;
         assert!((costs.order_key(2.0, weight) - 2.0 / weight * SMALL_PAIR).abs() < 1e-12);
         assert_eq!(costs.order_key(2.0, 0.0), 0.5, "no area: the mean");
+        // Without the rule a small pair is keyed by its area-weighted error alone, at a
+        // fraction of the key its distance deserves.
+        costs.rules = Rules::ALL.without(Rule::SmallPairs);
+        assert_eq!(costs.order_key(2.0, weight), 0.5);
     }
 
     #[test]

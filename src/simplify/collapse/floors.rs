@@ -17,7 +17,7 @@
 
 use super::super::clearance::{Clearance, PosesChecked};
 use super::super::topology::PositionClasses;
-use super::super::{OtherPoses, SimplifyInput, SimplifyOptions, StopReason};
+use super::super::{OtherPoses, Rule, SimplifyInput, SimplifyOptions, StopReason};
 use super::mesh::Mesh;
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::{DVec3, Vec3};
@@ -33,6 +33,13 @@ const MAX_VOUCHERS: usize = 32;
 pub(super) struct Floors<'a> {
     /// [`super::super::SimplifyOptions::max_distance`].
     pub(super) max_distance: f64,
+    /// Whether a collapse that leaves a tracked input vertex farther than `max_distance` is
+    /// refused ([`Rule::DistanceFloor`]); the distances are measured either way, for the level's
+    /// reach.
+    pub(super) distance_floor: bool,
+    /// Whether an open part's last triangle goes only within the level's reach
+    /// ([`Rule::OpenPartsWithinReach`]; `plan.rs`, `checks.rs`).
+    pub(super) open_parts_within_reach: bool,
     /// Whether a collapse was skipped for exceeding the error limit or the distance floor.
     pub(super) over_floor: bool,
     /// Per class: of the input vertices it stands for, the one farthest from the surface after
@@ -40,7 +47,8 @@ pub(super) struct Floors<'a> {
     pub(super) farthest_input: Vec<u32>,
     /// The input positions ([`SimplifyInput::positions`]).
     pub(super) input_positions: &'a [Vec3],
-    /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`).
+    /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`); `None`
+    /// without [`Rule::DistanceFloorInPoses`].
     pub(super) other_poses: Option<OtherPoses<'a>>,
     /// How far the input's other parts are, for pricing a part that vanishes.
     pub(super) clearance: Clearance<'a>,
@@ -65,13 +73,16 @@ impl<'a> Floors<'a> {
         options: &SimplifyOptions,
         classes: &PositionClasses,
     ) -> Self {
+        let other_poses = input.other_poses.filter(|_| options.rules.has(Rule::DistanceFloorInPoses));
         Floors {
             max_distance: f64::from(options.max_distance),
+            distance_floor: options.rules.has(Rule::DistanceFloor),
+            open_parts_within_reach: options.rules.has(Rule::OpenPartsWithinReach),
             over_floor: false,
             farthest_input: classes.representative.clone(),
             input_positions: input.positions,
-            other_poses: input.other_poses,
-            clearance: Clearance::new(input.positions, input.indices, input.other_poses),
+            other_poses,
+            clearance: Clearance::new(input.positions, input.indices, other_poses),
             reached_distance: 0.0,
             waiting: Waiting::default(),
             last_open_part_within: None,

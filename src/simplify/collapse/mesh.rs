@@ -16,7 +16,7 @@ use super::super::topology::{
     classify, creases, other_corners, position_classes, Classification, ConstraintSide, CornerLists, Kind,
     PositionClasses, NONE,
 };
-use super::super::SimplifyInput;
+use super::super::{Rule, Rules, SimplifyInput};
 use super::scratch::Marks;
 use glam::{DVec3, Vec3};
 
@@ -59,10 +59,12 @@ pub(super) struct Mesh<'a> {
 impl<'a> Mesh<'a> {
     /// The input as a mesh of position classes, none collapsed; also the sides of every
     /// constraint edge, where the costs put their penalty planes. `normal_channel`: see
-    /// [`super::super::SimplifyOptions::normal_channel`].
+    /// [`super::super::SimplifyOptions::normal_channel`]; hard corners only with
+    /// [`Rule::HardCorners`] in `rules`.
     pub(super) fn new(
         input: &SimplifyInput<'a>,
         normal_channel: Option<usize>,
+        rules: Rules,
     ) -> (Mesh<'a>, Vec<ConstraintSide>) {
         let positions = input.positions;
         let indices = input.indices;
@@ -88,7 +90,11 @@ impl<'a> Mesh<'a> {
                 (p1 - p0).cross(p2 - p0).normalize_or_zero()
             })
             .collect();
-        let hard_corner = hard_corners(&classes, &lists, input, normal_channel, &input_normal);
+        let hard_corner = if rules.has(Rule::HardCorners) {
+            hard_corners(&classes, &lists, input, normal_channel, &input_normal)
+        } else {
+            vec![false; class_count]
+        };
         let mesh = Mesh {
             materials: input.triangle_materials,
             input_normal,
@@ -356,7 +362,7 @@ mod tests {
     #[test]
     fn neighbours_are_the_distinct_classes_around_a_class() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         let mut marks = Marks::new(mesh.classes.count());
         let mut out = vec![99];
@@ -378,7 +384,7 @@ mod tests {
     #[test]
     fn a_lone_triangle_or_sheet_vanishes_with_its_collapse() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         assert_eq!(mesh.lone_triangle_corner(class(9), class(10)), Some(class(11)));
         assert_eq!(mesh.vanishing_corner(class(9), class(10)), Some(class(11)));
@@ -395,7 +401,7 @@ mod tests {
     #[test]
     fn border_edges_are_constraints_and_interior_ones_are_not() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         assert!(mesh.edge_is_constraint(class(0), class(1)), "one triangle");
         assert!(!mesh.edge_is_constraint(class(4), class(5)), "two alike");
@@ -405,7 +411,7 @@ mod tests {
     #[test]
     fn a_candidate_is_current_until_a_class_changes_or_dies() {
         let (positions, indices) = mesh();
-        let (mut mesh, _) = Mesh::new(&input(&positions, &indices), None);
+        let (mut mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
         let (u, v) = (mesh.classes.class_of[4], mesh.classes.class_of[5]);
         let candidate = Candidate::new(1.0, u, v, mesh.stamp_of(u, v));
         assert!(mesh.is_current(&candidate));

@@ -201,7 +201,7 @@ struct Engine<'a> {
 impl<'a> Engine<'a> {
     /// Every part at the start of a run over `input`: no collapse made, nothing queued.
     fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
-        let (mesh, sides) = Mesh::new(input, options.normal_channel);
+        let (mesh, sides) = Mesh::new(input, options.normal_channel, options.rules);
         let class_count = mesh.classes.count();
         Engine {
             costs: Costs::new(&mesh.classes, &sides, &mesh.input_normal, input, options),

@@ -17,7 +17,7 @@
 
 use super::super::quadric::Quadric;
 use super::super::topology::{other_corners, Kind, NONE};
-use super::super::CollapseMode;
+use super::super::{CollapseMode, Rule};
 use super::costs::Costs;
 use super::floors::Floors;
 use super::mesh::Mesh;
@@ -92,17 +92,23 @@ impl Pricing<'_, '_> {
         // Onto a hard corner (a corner or edge of a rigid flat-shaded part, see `hard_corners`
         // in `mod.rs`) from a faceted class, the survivor stays put: the merged planes' minimiser
         // would cut through the part.
+        let rules = self.costs.rules;
         let placement = match (self.costs.mode, ku, kv) {
+            // `hard_corner` is all false without `Rule::HardCorners`.
             _ if self.mesh.hard_corner[vi] && self.costs.is_faceted(&self.mesh.classes, u) => {
                 Placement::Fixed
             }
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) if material_edge => Placement::Segment,
             (CollapseMode::Full, Kind::Line | Kind::Corner, Kind::Line | Kind::Corner) if !material_edge => {
-                Placement::Free
+                if rules.has(Rule::LinesMergeFree) {
+                    Placement::Free
+                } else {
+                    Placement::Segment
+                }
             }
             (CollapseMode::Full, Kind::Interior, Kind::Line | Kind::Corner | Kind::Junction)
-                if !self.mesh.on_outline[vi] =>
+                if !self.mesh.on_outline[vi] && rules.has(Rule::SeamsMoveWithSurface) =>
             {
                 Placement::Free
             }
@@ -188,11 +194,20 @@ impl Pricing<'_, '_> {
     /// vanished at robot.glb's 656-triangle level (4.1 % of the diagonal, Hausdorff). A part
     /// alone in its mesh is priced by the sheet's own spread instead (the mean squared distance
     /// of its corners from their centroid): it leaves nothing behind.
+    /// Without [`Rule::OpenPartsWithinReach`] (`Floors::open_parts_within_reach`) or
+    /// [`Rule::ClosedPartsByClearance`] a part of that kind costs nothing beyond its plane quadric.
     fn vanishing_error(&mut self, u: u32, v: u32, x: u32) -> f64 {
         let corners = [u, v, x].map(|c| self.mesh.position[c as usize]);
         let area: f64 = [u, v, x].iter().map(|&c| self.costs.geometric[c as usize].weight).sum();
         if self.mesh.lists.has_one(u) {
-            return self.open_part_vanishing_error(u, v);
+            return if self.floors.open_parts_within_reach {
+                self.open_part_vanishing_error(u, v)
+            } else {
+                0.0
+            };
+        }
+        if !self.costs.rules.has(Rule::ClosedPartsByClearance) {
+            return 0.0;
         }
         let clearance: Option<f64> = [u, v, x]
             .iter()
