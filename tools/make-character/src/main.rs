@@ -1,6 +1,9 @@
 //! `make-character`: generates the project's built-in character, `assets/character.glb`, and
-//! two more test characters chosen by the output file's name: `robot.glb` (a flat-shaded rigid
-//! robot with morph targets) and `parts.glb` (many open armour plates), see [`robot`].
+//! more test characters chosen by the output file's name: `robot.glb` (a flat-shaded rigid
+//! robot with morph targets) and `parts.glb` (many open armour plates), see [`robot`];
+//! `hardsurface.glb` (sixty smooth hard-surface parts, 61k triangles, not committed), see
+//! [`hardsurface`]; `lowpoly-robot.glb` (every edge a normal seam, morph targets), see
+//! [`lowpoly`]; and `critter.glb` (a 500-triangle animal with a long tail), see [`critter`].
 //!
 //! Pipeline: body design ([`body`]) → implicit field ([`field`]) → surface nets ([`mesher`]) →
 //! skin weights ([`skin`]) → material split, UVs and colours ([`regions`]) → clips ([`clips`]) →
@@ -8,18 +11,23 @@
 //! run and platform (fixed iteration orders, portable libm, no time stamps).
 //!
 //! Usage:
-//! - `make-character PATH` writes the asset to PATH;
-//! - `make-character --check PATH` regenerates in memory and fails if PATH differs;
+//! - `make-character PATH...` writes each asset to its PATH;
+//! - `make-character --check PATH...` regenerates in memory and fails if a PATH differs;
 //! - `--render DIR` (with either) also writes PNG renders of the bind pose and of each clip;
 //! - `--detail F` makes about `F` times as many triangles (the grid spacing divided by `√F`), for
 //!   measuring how the LOD build scales (`--detail 16` is about 800k triangles); such characters
 //!   are not committed. With `parts.glb` (or `parts-x16.glb`) it multiplies the quads of each
-//!   armour plate instead (`--detail 16`: about 58k triangles in 57 primitives).
+//!   armour plate instead (`--detail 16`: about 58k triangles in 57 primitives); with
+//!   `hardsurface.glb` (or `hardsurface-NAME.glb`) every part's triangles.
 
 mod body;
 mod clips;
+mod critter;
+mod facets;
 mod field;
 mod glb;
+mod hardsurface;
+mod lowpoly;
 mod math;
 mod mesher;
 mod regions;
@@ -28,7 +36,9 @@ mod robot;
 mod robot_glb;
 mod shapes;
 mod skin;
+mod surfaces;
 mod validate;
+mod validate_kinds;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -96,10 +106,35 @@ fn render_all(loaded: &validate::Loaded, dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
+/// Renders a design's file: the bind pose, and each clip at a quarter and half of its length.
+fn render_design(bytes: &[u8], dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let (bind, clips) = validate_kinds::posed(bytes, None)?;
+    // Room for a long animal seen from the side, too.
+    let (lo, hi) = bind.positions.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let size = (hi - lo).max_element() * 1.25;
+    let frame = render::Frame { center: Vec3::new(0.0, 0.5 * (lo.y + hi.y), 0.0), height: size.max(1.0) };
+    let mut poses = vec![("bind".to_string(), None)];
+    for (c, name) in clips.iter().enumerate() {
+        poses.push((format!("{name}-a"), Some((c, 0.25))));
+        poses.push((format!("{name}-b"), Some((c, 0.5))));
+    }
+    for (stem, at) in poses {
+        let at = match at {
+            Some((c, fraction)) => Some((c, validate_kinds::clip_duration(bytes, c)? * fraction)),
+            None => None,
+        };
+        let (loaded, _) = validate_kinds::posed(bytes, at)?;
+        let image = render::render(&loaded, &loaded.positions, &loaded.normals, frame, &render::THREE_VIEWS);
+        render::write_png(&dir.join(format!("{stem}.png")), &image)?;
+    }
+    Ok(())
+}
+
 fn run() -> Result<(), String> {
     let mut check = false;
     let mut render_dir: Option<PathBuf> = None;
-    let mut path: Option<PathBuf> = None;
+    let mut paths: Vec<PathBuf> = Vec::new();
     let mut detail = 1.0;
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -115,25 +150,68 @@ fn run() -> Result<(), String> {
                 }
             }
             _ if arg.starts_with("--") => return Err(format!("unknown option {arg}")),
-            _ => path = Some(arg.into()),
+            _ => paths.push(arg.into()),
         }
     }
-    let path =
-        path.ok_or("usage: make-character [--check] [--render DIR] [--detail F] PATH/character.glb")?;
+    if paths.is_empty() {
+        return Err(
+            "usage: make-character [--check] [--render DIR] [--detail F] PATH/character.glb...".into()
+        );
+    }
+    for path in paths {
+        make(&path, detail, check, render_dir.as_deref())?;
+    }
+    Ok(())
+}
+
+/// Generates the asset that `path`'s file name names, checks it, and writes it there (or with
+/// `check` compares it with what is there).
+fn make(path: &Path, detail: f64, check: bool, render_dir: Option<&Path>) -> Result<(), String> {
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
-    let design = match stem {
-        "robot" if detail == 1.0 => Some(robot::robot()),
-        "robot" => return Err("--detail applies to the character and to parts.glb, not to robot.glb".into()),
-        // parts.glb, or parts-x16.glb for a dense one.
-        _ if stem == "parts" || stem.starts_with("parts-") => Some(robot::parts(detail)),
-        _ => None,
+    let named = |name: &str| stem == name || stem.starts_with(&format!("{name}-"));
+    let only_default = |name: &str| -> Result<(), String> {
+        match detail == 1.0 {
+            true => Ok(()),
+            false => Err(format!(
+                "--detail applies to the character, parts.glb and hardsurface.glb, not to {name}.glb"
+            )),
+        }
     };
-    if let Some(design) = design {
+    let kind = if stem == "robot" {
+        only_default("robot")?;
+        Some((robot::robot(), Kind::Robot))
+    } else if named("parts") {
+        // parts.glb, or parts-x16.glb for a dense one.
+        Some((robot::parts(detail), Kind::Parts))
+    } else if named("hardsurface") {
+        Some((hardsurface::hardsurface(detail), Kind::HardSurface))
+    } else if stem == "lowpoly-robot" {
+        only_default("lowpoly-robot")?;
+        Some((lowpoly::lowpoly_robot(), Kind::LowPolyRobot))
+    } else if stem == "critter" {
+        only_default("critter")?;
+        Some((critter::critter(), Kind::Critter))
+    } else {
+        None
+    };
+    if let Some((design, kind)) = kind {
         let bytes = robot_glb::write(&design);
-        let report =
-            validate::check_design(&bytes, stem == "robot", (detail.max(1.0) * f64::from(1 << 20)) as usize)?;
+        let report = match kind {
+            Kind::Robot | Kind::Parts => validate::check_design(
+                &bytes,
+                kind == Kind::Robot,
+                (detail.max(1.0) * f64::from(1 << 20)) as usize,
+            )?,
+            Kind::HardSurface => validate_kinds::check_hardsurface(&bytes, detail)?,
+            Kind::LowPolyRobot => validate_kinds::check_lowpoly_robot(&bytes)?,
+            Kind::Critter => validate_kinds::check_critter(&bytes)?,
+        };
         println!("{report}");
-        return finish(&path, &bytes, check);
+        if let Some(dir) = render_dir {
+            render_design(&bytes, dir)?;
+            println!("renders written to {}", dir.display());
+        }
+        return finish(path, &bytes, check);
     }
 
     let start = Instant::now();
@@ -144,7 +222,7 @@ fn run() -> Result<(), String> {
         Ok(report) => report,
         Err(e) => {
             // Renders help to see what went wrong.
-            if let Some(dir) = &render_dir {
+            if let Some(dir) = render_dir {
                 render_all(&loaded, dir)?;
             }
             return Err(format!("generated asset fails validation: {e}"));
@@ -166,10 +244,20 @@ fn run() -> Result<(), String> {
     }
 
     if let Some(dir) = render_dir {
-        render_all(&loaded, &dir)?;
+        render_all(&loaded, dir)?;
         println!("renders written to {}", dir.display());
     }
-    finish(&path, &bytes, check)
+    finish(path, &bytes, check)
+}
+
+/// The designs written by [`robot_glb`], each checked its own way.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Robot,
+    Parts,
+    HardSurface,
+    LowPolyRobot,
+    Critter,
 }
 
 /// Writes `bytes` to `path`, or with `check` fails unless `path` holds exactly them.

@@ -22,12 +22,14 @@ pub struct RJoint {
     pub head: Vec3,
 }
 
-/// One primitive: a shape rigidly bound to one joint (a skin-local index), a material, and morph
-/// targets (per target: position and normal deltas per vertex).
+/// One primitive: a shape bound to joints (skin-local indices), a material, and morph targets
+/// (per target: position and normal deltas per vertex).
 pub struct RPrimitive {
     pub shape: Shape,
-    /// Per vertex, the joint's index in the mesh's skin.
-    pub joints: Vec<u16>,
+    /// Per vertex, up to four joints (indices in the mesh's skin)…
+    pub joints: Vec<[u16; 4]>,
+    /// …and their weights, largest first, summing to 1 (`[1, 0, 0, 0]` for a rigid vertex).
+    pub weights: Vec<[f32; 4]>,
     pub material: usize,
     pub targets: Vec<(Vec<Vec3>, Vec<Vec3>)>,
 }
@@ -51,8 +53,10 @@ pub struct RClip {
 }
 
 pub struct Design {
+    /// The scene's name.
+    pub scene: &'static str,
     pub joints: Vec<RJoint>,
-    pub materials: Vec<(&'static str, [f32; 4])>,
+    pub materials: Vec<(String, [f32; 4])>,
     pub meshes: Vec<RMesh>,
     pub clips: Vec<RClip>,
 }
@@ -120,9 +124,15 @@ fn find(joints: &[RJoint], name: &str) -> usize {
 }
 
 /// A rigid primitive on skin-local joint `joint`.
-fn rigid(shape: Shape, joint: u16, material: usize) -> RPrimitive {
-    let joints = vec![joint; shape.positions.len()];
-    RPrimitive { shape, joints, material, targets: Vec::new() }
+pub fn rigid(shape: Shape, joint: u16, material: usize) -> RPrimitive {
+    let joints = vec![[joint, 0, 0, 0]; shape.positions.len()];
+    let weights = vec![[1.0, 0.0, 0.0, 0.0]; shape.positions.len()];
+    RPrimitive { shape, joints, weights, material, targets: Vec::new() }
+}
+
+/// The materials of a fixed table, named.
+fn named(table: &[(&str, [f32; 4])]) -> Vec<(String, [f32; 4])> {
+    table.iter().map(|&(name, color)| (name.to_string(), color)).collect()
 }
 
 /// The face plate (mesh "Face"; its targets, in order: Smile, Blink, Open): a grid of `N × N` facets on the front of the head, closed by a box behind it,
@@ -340,14 +350,15 @@ pub fn robot() -> Design {
         let hand = head_of(&format!("Hand{side}"));
         let palm = block(hand + Vec3::new(-0.05, -0.08, -0.025), hand + Vec3::new(0.05, 0.0, 0.025), 2);
         hands.push(rigid(palm, local(&hand_skin, &format!("Hand{side}")), DARK));
-        let mut fingers =
-            RPrimitive { shape: Shape::default(), joints: Vec::new(), material: STEEL, targets: Vec::new() };
+        let mut fingers = rigid(Shape::default(), 0, STEEL);
         for f in 0..5 {
             for k in 0..3 {
                 let name = format!("Finger{f}{k}{side}");
                 let a = head_of(&name);
                 let bone = prism(a, a - Vec3::Y * 0.026, (0.009, 0.009), 6, 2, 0.0);
-                fingers.joints.extend(std::iter::repeat_n(local(&hand_skin, &name), bone.positions.len()));
+                let joint = [local(&hand_skin, &name), 0, 0, 0];
+                fingers.joints.extend(std::iter::repeat_n(joint, bone.positions.len()));
+                fingers.weights.extend(std::iter::repeat_n([1.0, 0.0, 0.0, 0.0], bone.positions.len()));
                 fingers.shape.append(&bone);
             }
         }
@@ -376,7 +387,7 @@ pub fn robot() -> Design {
         RMesh { name: "Face", skin: face_skin, primitives: face, default_weights: vec![0.2, 0.0, 0.0] },
     ];
     let clips = clips(&joints, 2);
-    Design { joints, materials: MATERIALS.to_vec(), meshes, clips }
+    Design { scene: "Robot", joints, materials: named(&MATERIALS), meshes, clips }
 }
 
 /// The many-part character: the robot's skeleton wearing 57 open smooth-shaded plates.
@@ -410,5 +421,5 @@ pub fn parts(detail: f64) -> Design {
     for clip in &mut clips {
         clip.weights.clear();
     }
-    Design { joints, materials: MATERIALS.to_vec(), meshes, clips }
+    Design { scene: "Robot", joints, materials: named(&MATERIALS), meshes, clips }
 }

@@ -28,11 +28,11 @@ fn vec3_accessor(b: &mut Builder, values: &[Vec3], bounds: bool) -> json::Index<
 pub fn write(design: &Design) -> Vec<u8> {
     use json::accessor::{ComponentType as C, Type as T};
     let mut b = Builder { root: json::Root::default(), bin: Vec::new() };
-    for &(name, color) in &design.materials {
+    for (name, color) in &design.materials {
         b.root.push(json::Material {
-            name: Some(name.to_string()),
+            name: Some(name.clone()),
             pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-                base_color_factor: json::material::PbrBaseColorFactor(color),
+                base_color_factor: json::material::PbrBaseColorFactor(*color),
                 metallic_factor: json::material::StrengthFactor(0.3),
                 roughness_factor: json::material::StrengthFactor(0.6),
                 ..Default::default()
@@ -66,12 +66,10 @@ pub fn write(design: &Design) -> Vec<u8> {
             let s = &prim.shape;
             let position = vec3_accessor(&mut b, &s.positions, true);
             let normal = vec3_accessor(&mut b, &s.normals, false);
-            let joint_bytes: Vec<u8> =
-                prim.joints.iter().flat_map(|&j| [j, 0, 0, 0]).flat_map(|j| j.to_le_bytes()).collect();
+            let joint_bytes: Vec<u8> = prim.joints.iter().flatten().flat_map(|j| j.to_le_bytes()).collect();
             let target = Some(json::buffer::Target::ArrayBuffer);
             let joints = b.accessor(&joint_bytes, prim.joints.len(), C::U16, T::Vec4, target, None);
-            // Rigid: weight 1 on one joint.
-            let weight_values: Vec<f32> = prim.joints.iter().flat_map(|_| [1.0, 0.0, 0.0, 0.0]).collect();
+            let weight_values: Vec<f32> = prim.weights.iter().flatten().copied().collect();
             let weights = b.floats(&weight_values, 4, T::Vec4);
             let index_bytes: Vec<u8> = s.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect();
             let element = Some(json::buffer::Target::ElementArrayBuffer);
@@ -136,7 +134,7 @@ pub fn write(design: &Design) -> Vec<u8> {
     let scene = b.root.push(json::Scene {
         extensions: None,
         extras: Default::default(),
-        name: Some("Robot".to_string()),
+        name: Some(design.scene.to_string()),
         nodes: roots,
     });
     b.root.scene = Some(scene);
