@@ -1,12 +1,14 @@
 // The models a benchmark measures. With no paths on its command line: the three shared models
 // (../shared/models: CesiumMan, Fox, RiggedSimple), then any other .glb or .gltf in that folder,
-// then the project's test characters in assets/ that the benchmark names. Paths on the command
+// then the project's test characters in assets/ that the benchmark names, then the generated ones
+// it names (made into target/generated/ on the spot, bench/generated.mjs). Paths on the command
 // line replace that list: each a .glb or .gltf file, or a folder standing for the ones in it. So
 // a user measures their own character with `node bench/animated-vs-meshoptimizer.mjs my.glb`.
 import { existsSync, readdirSync, readFileSync, statSync } from 'node:fs';
 import { basename, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { api } from '../tests/js/models.mjs';
+import { generated } from './generated.mjs';
 
 const root = fileURLToPath(new URL('../', import.meta.url));
 const SHARED = join(root, '../shared/models');
@@ -20,12 +22,14 @@ function modelsIn(folder) {
 
 /**
  * Paths of the models to measure: `args` (files and folders, see the top of this file) when it
- * names any, or the default list ending with `assets/<name>` for each of `assetNames` present.
+ * names any, or the default list: the shared models, `assets/<name>` for each of `assetNames`
+ * present, and `target/generated/<name>` for each of `generatedNames`, generated now.
  * An absent shared model is skipped with a line (and fails under CI=true, as in the tests).
  *
- * @throws {Error} naming a path on the command line that is neither a model nor a folder.
+ * @throws {Error} naming a path on the command line that is neither a model nor a folder, or when
+ * the generator fails.
  */
-export function modelPaths(args, assetNames) {
+export function modelPaths(args, assetNames, generatedNames = []) {
   if (args.length) {
     return args.flatMap((arg) => {
       const path = resolve(arg);
@@ -45,7 +49,7 @@ export function modelPaths(args, assetNames) {
     if (!existsSync(path)) console.log(`skipping ${basename(path)}: ${path} is missing`);
     return existsSync(path);
   });
-  return [...shared, ...others, ...assets];
+  return [...shared, ...others, ...assets, ...generatedNames.map((name) => generated(name))];
 }
 
 /**

@@ -3,6 +3,8 @@
 //! `wasm-pack test --node` through node's `fs` module.
 #![allow(dead_code)]
 
+pub mod chain;
+
 /// Path of a shared model, relative to the crate root.
 pub fn model_path(name: &str) -> String {
     format!("{}/../shared/models/{name}", env!("CARGO_MANIFEST_DIR"))

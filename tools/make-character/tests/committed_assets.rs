@@ -34,3 +34,8 @@ fn robot_glb_is_what_the_generator_makes() {
 fn parts_glb_is_what_the_generator_makes() {
     check("parts.glb");
 }
+
+#[test]
+fn critter_glb_is_what_the_generator_makes() {
+    check("critter.glb");
+}
