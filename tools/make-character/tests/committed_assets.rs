@@ -5,7 +5,7 @@
 
 use std::process::Command;
 
-/// Runs `make-character --check assets/NAME` and fails with its output unless it passes.
+/// Runs the generator's `--check` on the committed file `name` and fails with its output unless it passes.
 fn check(name: &str) {
     let path = format!("{}/../../assets/{name}", env!("CARGO_MANIFEST_DIR"));
     let output = Command::new(env!("CARGO_BIN_EXE_make-character"))
