@@ -26,13 +26,45 @@ export interface ViewState {
   rect: [number, number, number, number];
 }
 
-/** The live meter's pop for one method: the largest frame-to-frame change through the last transition. */
+/**
+ * The live meter's pop for one method through the last transition: its largest *step*, the
+ * difference between a frame and its control (the same frame drawn with the view's plan of the
+ * previous measured frame), so what the transition itself changed; 0 for a view whose plan held.
+ */
 export interface MethodPop {
-  /** % of the view's pixels whose coverage differs from the full-detail reference. */
+  /** % of the view's pixels whose coverage the step changed. */
   silhouette: number;
   /** Mean |ΔRGB| per pixel both cover, 0..765. */
   shading: number;
   transitions: number;
+  /** Without the control: the largest frame-to-frame change of the difference from the
+   * full-detail reference (the meter's former pop; includes the animation's own change). */
+  uncontrolled: { silhouette: number; shading: number };
+}
+
+/** `meterHistory()`: the meter's recent samples, oldest first. */
+export interface MeterHistory {
+  /** The method of each view. */
+  methods: Method[];
+  /** `[seconds, transitionRunning, silhouette %, shading, … per view]`: each view's difference from the reference. */
+  samples: (number | boolean)[][];
+  /** `[silhouette %, shading, … per view]`: each view's step (against its control) in the same frames. */
+  steps: number[][];
+}
+
+/** A setting the two presets differ in: its `setState` key, current value and both presets' values. */
+export interface PresetValue {
+  key: 'tolerance' | 'magnify' | 'transitionSpeed' | 'dollyPeriod';
+  label: string;
+  value: number;
+  demonstration: number;
+  realistic: number;
+}
+
+/** `state().preset`: the preset the settings match (null once a control moved), and what it sets. */
+export interface PresetState {
+  name: 'demonstration' | 'realistic' | null;
+  values: PresetValue[];
 }
 
 /** Per view, how its difference from full detail changes over the meter's history. */
@@ -130,6 +162,7 @@ export interface ViewerState {
   morphs: boolean;
   mode: 'single' | 'crowd';
   crowd: CrowdState | null;
+  preset: PresetState;
   errors: string[];
   warnings: string[];
 }
@@ -177,6 +210,8 @@ export interface ViewerSettings {
   morphs?: boolean;
   /** Crowd instances, 1..4096. */
   count?: number;
+  /** The demonstration's exaggerated settings or the realistic defaults (applied before the call's other keys). */
+  preset?: 'demonstration' | 'realistic';
 }
 
 /** `measurePopSpike(options)`'s result: each method's largest frame-to-frame mean |ΔRGB| per pixel
@@ -226,7 +261,7 @@ export interface ClodViewerEventMap {
   camerachange: CustomEvent<undefined>;
 }
 
-/** `<clod-viewer src clip modes variant tolerance backend autoplay loading mode count manual-frames>`. */
+/** `<clod-viewer src clip modes variant tolerance backend autoplay loading mode count preset manual-frames>`. */
 export class ClodViewerElement extends HTMLElement {
   static observedAttributes: string[];
   /** The canvas the views are drawn on. */
@@ -243,7 +278,7 @@ export class ClodViewerElement extends HTMLElement {
   setState(settings: ViewerSettings): void;
   state(): ViewerState;
   meter(): { popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null };
-  meterHistory(): { methods: Method[]; samples: (number | boolean)[][] };
+  meterHistory(): MeterHistory;
   measurePopSpike(options?: { level?: number; frames?: number; sweep?: number; at?: number }): Promise<PopSpike>;
   /** Draws one frame at `nowMs` (with `manual-frames`) and returns the state. */
   renderFrame(nowMs: number): ViewerState;

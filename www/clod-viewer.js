@@ -12,7 +12,8 @@
 //
 // Attributes: src (default: the built-in character), clip, modes (`pop blend morph`, one to three,
 // in order), mode (`single` | `crowd`: the character instanced `count` times, default 400, up to
-// 4096, each instance with its own level and transitions), variant (`opaque-first | naive | dither`), tolerance (pixels), backend
+// 4096, each instance with its own level and transitions), variant (`opaque-first | naive | dither`), tolerance (pixels),
+// preset (`demonstration`: exaggerated settings that show the changes, see `state().preset`; `realistic`: the defaults), backend
 // (`webgpu | webgl2`), autoplay (absent: paused at t = 0), loading (`lazy`: nothing is fetched
 // before the element is scrolled into view; GPU work always waits for that), manual-frames (draw
 // only on `renderFrame`, for tests).
@@ -243,7 +244,7 @@ export function parseModes(text) {
 }
 
 export class ClodViewerElement extends HTMLElement {
-  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay', 'mode', 'count'];
+  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay', 'mode', 'count', 'preset'];
 
   #canvas = null;
   #labels = [];
@@ -614,7 +615,8 @@ export class ClodViewerElement extends HTMLElement {
   // `[attribute, () => setState object]` pairs for the attributes set (a bad `modes` throws).
   #initialState() {
     const pairs = [['autoplay', () => ({ paused: !this.hasAttribute('autoplay') })]];
-    for (const name of ['clip', 'modes', 'variant', 'tolerance', 'mode', 'count']) {
+    // The preset first: an explicit tolerance attribute then overrides its threshold.
+    for (const name of ['preset', 'clip', 'modes', 'variant', 'tolerance', 'mode', 'count']) {
       if (this.hasAttribute(name)) pairs.push([name, () => this.#attributeState(name)]);
     }
     return pairs;
@@ -630,6 +632,7 @@ export class ClodViewerElement extends HTMLElement {
       case 'autoplay': return { paused: value === null };
       case 'mode': return { mode: value ?? 'single' };
       case 'count': return { count: Number(value) };
+      case 'preset': return { preset: value ?? 'realistic' };
       default: return {};
     }
   }

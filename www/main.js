@@ -5,8 +5,10 @@
 //
 // URL parameters: model (a .glb URL), clip, t (animation seconds; the page starts paused there),
 // mode (the views' methods, e.g. `pop+blend+morph`), backend (webgpu | webgl2), variant,
-// tolerance, distance (× framing; turns the dolly off), lod (continuous triangle count);
-// test=1 draws only on request and exposes window.__clod for the browser tests.
+// tolerance, distance (× framing; turns the dolly off), lod (continuous triangle count), settings
+// (`realistic`: the engine's defaults; absent or `demonstration`: the exaggerated demonstration the
+// page opens with, see `state().preset`); test=1 draws only on request, starts on the realistic
+// settings unless `settings` says otherwise, and exposes window.__clod for the browser tests.
 
 const params = new URLSearchParams(location.search);
 const testMode = params.get('test') === '1';
@@ -27,6 +29,9 @@ let deferredLod = null;
 // --- start-up from the URL ----------------------------------------------------------------------
 
 if (testMode) viewer.setAttribute('manual-frames', '');
+// The page opens on the demonstration; the tests' pages on the realistic defaults they measure.
+const preset = params.get('settings') ?? (testMode ? 'realistic' : 'demonstration');
+viewer.setAttribute('preset', preset === 'realistic' ? 'realistic' : 'demonstration');
 if (params.get('backend')) viewer.setAttribute('backend', params.get('backend'));
 if (params.get('mode')) viewer.setAttribute('modes', params.get('mode'));
 if (params.get('clip')) viewer.setAttribute('clip', params.get('clip'));
@@ -58,6 +63,7 @@ viewer.addEventListener('load', (e) => {
   if (first) applyUrlState();
   html.dataset.state = 'ready';
   html.dataset.lod = state.lodFrom ? 'ready' : 'pending';
+  showPreset(state);
   showStats();
 });
 
@@ -107,9 +113,51 @@ function set(state) {
   try {
     viewer.setState(state);
     writeUrl();
+    showPreset(viewer.state());
   } catch (e) {
     status.textContent = e.message;
   }
+}
+
+// --- the preset: what the demonstration exaggerates, and the one control to leave it --------------
+
+const PRESET_WORDS = {
+  tolerance: (v) => `a ${v} px threshold`,
+  magnify: (v) => (v > 1 ? `magnified ×${v}` : 'real size'),
+  transitionSpeed: (v) => (v < 1 ? `transitions slowed to ×${v}` : 'real-time transitions'),
+  dollyPeriod: (v) => `a ${v} s dolly`,
+};
+
+// Says which settings are in force and what the demonstration exaggerates (the values come from
+// `state().preset`), and offers the other preset.
+function showPreset(state) {
+  const p = state.preset;
+  const toggle = $('preset-toggle');
+  const words = (which) => p.values.map((v) => PRESET_WORDS[v.key]?.(v[which]) ?? `${v.key} ${v[which]}`).join(', ');
+  let text;
+  if (p.name === 'demonstration') {
+    text = `Exaggerated for demonstration: ${p.values.map((v) => `${PRESET_WORDS[v.key]?.(v.demonstration)} (realistic: ${PRESET_WORDS[v.key]?.(v.realistic)})`).join(', ')}, ` +
+      'and the difference from full detail tinted (magenta: outline, amber: shading). The views still differ only in the transition method.';
+  } else if (p.name === 'realistic') {
+    text = `Realistic settings: ${words('realistic')}. At these settings the level changes stay below a pixel: good LOD shows nothing.`;
+  } else {
+    text = `Your own settings: ${words('value')}.`;
+  }
+  $('preset-text').textContent = text;
+  toggle.hidden = false;
+  toggle.dataset.to = p.name === 'demonstration' ? 'realistic' : 'demonstration';
+  toggle.textContent = p.name === 'demonstration' ? 'Show realistic settings' : 'Show the exaggerated demonstration';
+  html.dataset.preset = p.name ?? 'custom';
+  syncPresetControls(state);
+}
+
+// The controls a preset moves follow it.
+function syncPresetControls(state) {
+  $('tolerance').value = state.preset.values.find((v) => v.key === 'tolerance').value;
+  $('tolerance-out').textContent = `${$('tolerance').value} px`;
+  $('magnify').value = String(state.magnify);
+  $('transition-speed').value = String(state.transitionSpeed);
+  $('overlay').value = state.overlay;
 }
 
 function setupControls(state, first) {
@@ -188,6 +236,7 @@ function wireControls() {
   };
   $('continuous-on').addEventListener('change', continuous);
   $('continuous').addEventListener('input', continuous);
+  $('preset-toggle').addEventListener('click', (e) => set({ preset: e.target.dataset.to }));
   $('file').addEventListener('change', (e) => openFiles([...e.target.files]));
   $('screenshot').addEventListener('click', screenshot);
   $('measure').addEventListener('click', measureSpike);
@@ -392,6 +441,9 @@ function writeUrl() {
     if (s.distanceMode === 'manual') next.set('distance', s.distance.toFixed(2));
     if (s.continuousTriangles) next.set('lod', s.continuousTriangles);
     if (s.crowd) next.set('crowd', s.crowd.instances);
+    // The demonstration is the page's default: only the realistic preset is written.
+    if (s.preset.name === 'realistic' && !testMode) next.set('settings', 'realistic');
+    else if (s.preset.name === 'demonstration' && testMode) next.set('settings', 'demonstration');
     if (testMode) next.set('test', '1');
     history.replaceState(null, '', `?${next.toString().replaceAll('%2B', '+')}`);
   }, 300);

@@ -1,6 +1,5 @@
 //! The live transition meter: how far each view's picture is from the full-detail reference drawn
-//! at the same pose and camera, every frame, and how much of that changes at once while a
-//! transition runs (its *pop*).
+//! at the same pose and camera, every frame, and how much a transition changes at once (its *pop*).
 //!
 //! Two channels, after Larkin (2011), who found the silhouette the cue people notice first:
 //! - **silhouette**: how much of the view's area the two pictures cover differently,
@@ -12,12 +11,21 @@
 //! - **shading**: `|ΔR| + |ΔG| + |ΔB|` (0..765, 8-bit sRGB) summed over the pixels both cover
 //!   fully (alpha 255), divided by all of the view's pixels.
 //!
-//! The reference moves with the animation and the camera, so their motion cancels out of the
-//! difference; what is left is the level's error. A transition's pop, per channel, is the largest
-//! frame-to-frame change of that difference from the last frame before it starts to the first
-//! frame after it ends: popping's change lands in one frame, a geomorph's is spread over all of
-//! them. Frames arrive a frame or two late (read back asynchronously) and may skip one when the
-//! GPU is slow; a skipped frame makes the next change count over two frames (reported by `gap`).
+//! **The pop isolates the transition.** Each measured frame also draws every view's *control*:
+//! the same frame (pose, camera, clock) drawn with the plan that view had in the previous measured
+//! frame. The control is what the frame would show had the transition not moved on; the view's
+//! difference from its control (the *step*, same channels) is what the transition itself changed
+//! on screen in that frame. A view whose plan held draws its control exactly: its step is 0
+//! however the character moves. A transition's pop, per channel, is the largest step from the
+//! frame it starts (popping's switch) to the first frame after it ends: popping's whole change
+//! lands in one step, a geomorph's is spread over all of them.
+//!
+//! The former pop, the largest frame-to-frame change of the difference from the reference, is
+//! kept as `uncontrolled`: the reference moves with the animation, but the outline's
+//! rasterization does not cancel, so it includes the animation's own change (about 0.02 % of the
+//! view per frame on the built-in character walking, as large as a geomorph's step) and depends
+//! on the frame rate. Frames arrive a frame or two late (read back asynchronously) and may skip
+//! one when the GPU is slow; the next step then spans two frames (reported by `gap`).
 
 use std::collections::VecDeque;
 
@@ -64,20 +72,32 @@ pub struct MeterSample {
     /// Viewer seconds (the dolly clock) when the frame was drawn.
     pub time: f64,
     pub transition: Transition,
+    /// Each view's difference from the reference.
     pub views: Vec<FrameDifference>,
+    /// Each view's difference from its control (see the module docs): what this frame's step of
+    /// the transition changed; 0 where the view's plan held.
+    pub steps: Vec<FrameDifference>,
 }
 
-/// The pop of one transition in one view: the largest frame-to-frame change of each channel.
+/// The pop of one transition in one view: its largest step per channel (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pop {
     pub silhouette: f32,
     pub shading: f32,
+    /// Without the control: the largest frame-to-frame change of each channel of the difference
+    /// from the reference (the animation's own change included).
+    pub uncontrolled: FrameDifference,
 }
 
 impl Pop {
-    fn grow(&mut self, before: &FrameDifference, after: &FrameDifference) {
-        self.silhouette = self.silhouette.max((after.silhouette - before.silhouette).abs());
-        self.shading = self.shading.max((after.shading - before.shading).abs());
+    /// Grows by the frame whose difference from the reference went from `before` to `after` and
+    /// whose step was `step`.
+    fn grow(&mut self, before: &FrameDifference, after: &FrameDifference, step: &FrameDifference) {
+        self.silhouette = self.silhouette.max(step.silhouette);
+        self.shading = self.shading.max(step.shading);
+        let u = &mut self.uncontrolled;
+        u.silhouette = u.silhouette.max((after.silhouette - before.silhouette).abs());
+        u.shading = u.shading.max((after.shading - before.shading).abs());
     }
 }
 
@@ -126,8 +146,9 @@ impl TransitionMeter {
             let closing = if completed { self.last.as_mut() } else { None };
             // The frame a transition ends on still belongs to it (the last step to the new level).
             for pops in grow_into.into_iter().chain(closing) {
-                for ((pop, a), b) in pops.iter_mut().zip(&previous.views).zip(&sample.views) {
-                    pop.grow(a, b);
+                let frames = previous.views.iter().zip(&sample.views).zip(&sample.steps);
+                for (pop, ((a, b), step)) in pops.iter_mut().zip(frames) {
+                    pop.grow(a, b, step);
                 }
             }
         } else {
@@ -216,30 +237,64 @@ mod tests {
     }
 
     fn sample(frame: u64, transition: Transition, silhouette: [f32; 2]) -> MeterSample {
-        let views =
-            silhouette.iter().map(|&s| FrameDifference { silhouette: s, shading: 10.0 * s }).collect();
-        MeterSample { frame, time: frame as f64 / 60.0, transition, views }
+        stepped(frame, transition, silhouette, [0.0; 2])
+    }
+
+    fn stepped(frame: u64, transition: Transition, silhouette: [f32; 2], steps: [f32; 2]) -> MeterSample {
+        let differences =
+            |v: [f32; 2]| v.iter().map(|&s| FrameDifference { silhouette: s, shading: 10.0 * s }).collect();
+        MeterSample {
+            frame,
+            time: frame as f64 / 60.0,
+            transition,
+            views: differences(silhouette),
+            steps: differences(steps),
+        }
     }
 
     #[test]
-    fn a_pop_is_the_largest_change_from_just_before_to_the_end() {
+    fn a_pop_is_the_largest_step_from_the_switch_to_the_frame_after_the_end() {
         let mut meter = TransitionMeter::default();
         let rest = Transition::at(0);
         let run = |t| Transition { from: 0, to: 2, t };
-        // View 0 pops at the switch; view 1 moves by 0.1 a frame.
-        assert!(!meter.push(sample(1, rest, [0.0, 0.0])));
-        assert!(!meter.push(sample(2, run(0.0), [0.5, 0.1])));
-        assert!(!meter.push(sample(3, run(0.5), [0.5, 0.2])));
-        assert!(meter.push(sample(4, Transition::at(2), [0.5, 0.5])), "ends at rest");
+        // View 0 pops at the switch (its step is the whole change); view 1 steps by 0.1 a frame.
+        // Both differences from the reference also drift with the animation, which the steps
+        // (against the controls) leave out and the uncontrolled pops keep.
+        assert!(!meter.push(stepped(1, rest, [0.0, 0.0], [0.0, 0.0])));
+        assert!(!meter.push(stepped(2, run(0.0), [0.5, 0.15], [0.45, 0.1])));
+        assert!(!meter.push(stepped(3, run(0.5), [0.55, 0.3], [0.0, 0.1])));
+        assert!(meter.push(stepped(4, Transition::at(2), [0.6, 0.5], [0.0, 0.12])), "ends at rest");
+        // Frames at rest after the end belong to no transition: a large change there is ignored.
+        assert!(!meter.push(stepped(5, Transition::at(2), [0.9, 0.9], [0.0, 0.0])));
         let pops = meter.last.clone().unwrap();
-        assert_eq!((pops[0].silhouette, pops[0].shading), (0.5, 5.0));
-        assert!((pops[1].silhouette - 0.3).abs() < 1e-6, "the last step counts: {:?}", pops[1]);
+        assert_eq!((pops[0].silhouette, pops[0].shading), (0.45, 4.5));
+        assert!((pops[1].silhouette - 0.12).abs() < 1e-6, "the last step counts: {:?}", pops[1]);
+        assert_eq!(pops[0].uncontrolled.silhouette, 0.5);
+        assert!((pops[1].uncontrolled.silhouette - 0.2).abs() < 1e-6, "{:?}", pops[1]);
         assert_eq!((meter.transitions, meter.gaps), (1, 0));
         // A queued transition follows at once: the first closes, the second opens.
-        assert!(!meter.push(sample(5, Transition { from: 2, to: 3, t: 0.0 }, [0.6, 0.5])));
-        assert!(meter.push(sample(7, Transition { from: 3, to: 1, t: 0.0 }, [0.6, 0.5])));
+        assert!(!meter.push(sample(6, Transition { from: 2, to: 3, t: 0.0 }, [0.6, 0.5])));
+        assert!(meter.push(sample(8, Transition { from: 3, to: 1, t: 0.0 }, [0.6, 0.5])));
         assert_eq!((meter.transitions, meter.gaps), (2, 1));
-        assert_eq!(meter.history.len(), 6);
+        assert_eq!(meter.history.len(), 7);
+    }
+
+    #[test]
+    fn a_view_whose_plan_holds_pops_zero_while_its_difference_moves() {
+        // Both views' differences from the reference change every frame (the walk), only view 0
+        // changes level: view 1's steps are 0, so its pop is 0 while its uncontrolled pop is not.
+        let mut meter = TransitionMeter::default();
+        let run = |t| Transition { from: 1, to: 2, t };
+        meter.push(stepped(1, Transition::at(1), [0.1, 0.1], [0.0, 0.0]));
+        for (k, frame) in (2..6).enumerate() {
+            let drift = 0.02 * k as f32;
+            meter.push(stepped(frame, run(0.25 * k as f32), [0.1 + drift, 0.1 + drift], [0.03, 0.0]));
+        }
+        assert!(meter.push(stepped(6, Transition::at(2), [0.3, 0.2], [0.03, 0.0])));
+        let pops = meter.last.clone().unwrap();
+        assert_eq!(pops[1].silhouette, 0.0);
+        assert!(pops[1].uncontrolled.silhouette >= 0.02, "{:?}", pops[1]);
+        assert_eq!(pops[0].silhouette, 0.03);
     }
 
     #[test]

@@ -35,6 +35,7 @@ use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
 use crate::render::meter::{frame_difference, MeterSample, TransitionMeter};
 use crate::render::overlay::bone_segments;
+use crate::render::plan::ViewPlan;
 use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
 use crate::render::viewer::settings::Update;
@@ -75,6 +76,9 @@ struct Inner {
     /// (frame number, dolly seconds, the transition shown).
     meter: TransitionMeter,
     meter_pending: std::collections::VecDeque<(u64, f64, Transition)>,
+    /// The plans of the last measured frame: each view's control in the next one (see
+    /// [`crate::render::meter`]); `None` until a frame is measured.
+    meter_controls: Option<[ViewPlan; 3]>,
     skin: Vec<Mat4>,
     /// Morph-target weights of the same pose, one per target.
     morph_weights: Vec<f32>,
@@ -210,6 +214,7 @@ impl Viewer {
             camera_raw: CameraRaw::zeroed(),
             meter: TransitionMeter::default(),
             meter_pending: Default::default(),
+            meter_controls: None,
             skin: Vec::new(),
             morph_weights: Vec::new(),
             bones: Vec::new(),
@@ -333,6 +338,7 @@ impl Viewer {
             inner.build_ms = build_ms;
             inner.built_off_main_thread = from == "build";
             inner.lod_from = Some(from);
+            inner.meter_controls = None;
             Ok(JsValue::UNDEFINED)
         })
     }
@@ -342,9 +348,10 @@ impl Viewer {
     /// shading, … per view]] }`. While a measurement holds the viewer: empty.
     #[wasm_bindgen(js_name = meterHistory)]
     pub fn meter_history(&self) -> Result<JsValue, JsError> {
-        let json = self
-            .lock()
-            .map_or_else(|| "{\"methods\":[],\"samples\":[]}".into(), |inner| inner.meter_history_json());
+        let json = self.lock().map_or_else(
+            || "{\"methods\":[],\"samples\":[],\"steps\":[]}".into(),
+            |inner| inner.meter_history_json(),
+        );
         js_sys::JSON::parse(&json).map_err(|_| JsError::new("meter history is not JSON"))
     }
 
@@ -572,6 +579,7 @@ impl Inner {
             views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
             overlay: m.settings.overlay,
             meter: None,
+            controls: None,
             crowd,
         }
     }
@@ -579,10 +587,13 @@ impl Inner {
     fn draw(&mut self) {
         self.collect_meter();
         let tag = self.model.settings.meter.then_some(self.frames);
+        let controls = self.meter_controls.clone().unwrap_or_else(|| self.model.plans.clone());
         let mut input = self.frame_input();
         input.meter = tag;
-        self.renderer.render(&input);
-        if let Some(tag) = tag {
+        input.controls = Some([&controls[0], &controls[1], &controls[2]]);
+        let measured = self.renderer.render(&input);
+        if let Some(tag) = tag.filter(|_| measured) {
+            self.meter_controls = Some(self.model.plans.clone());
             // A crowd's transitions are its instances' (many at once): the meter records its
             // differences and their frame-to-frame changes, not one transition's pop.
             let transition = match &self.model.crowd {
@@ -590,7 +601,7 @@ impl Inner {
                 None => self.model.plans[0].transition,
             };
             self.meter_pending.push_back((tag, self.model.dolly_time, transition));
-            // Frames the GPU had no free readback for never come back.
+            // Readbacks that failed never come back.
             while self.meter_pending.len() > 8 {
                 self.meter_pending.pop_front();
             }
@@ -617,7 +628,17 @@ impl Inner {
                     *differences[p].get_or_insert_with(|| frame_difference(reference, &frame.pictures[p]))
                 })
                 .collect();
-            self.meter.push(MeterSample { frame: tag, time, transition, views });
+            // Each view against its control: the same picture (the plan held) steps by nothing.
+            let steps = frame
+                .view_picture
+                .iter()
+                .zip(&frame.control_picture)
+                .map(|(&v, &c)| match v == c {
+                    true => Default::default(),
+                    false => frame_difference(&frame.pictures[c], &frame.pictures[v]),
+                })
+                .collect();
+            self.meter.push(MeterSample { frame: tag, time, transition, views, steps });
         }
     }
 

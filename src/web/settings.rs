@@ -8,12 +8,13 @@ use crate::js_options::entries;
 use crate::render::camera;
 use crate::render::crowd::MAX_INSTANCES;
 use crate::render::plan::{BlendVariant, Method};
+use crate::render::viewer::preset::{Preset, PRESET_NAMES};
 use crate::render::viewer::settings::{
     method_named, overlay_named, variant_named, DistanceMode, Update, METHOD_NAMES, OVERLAY_NAMES,
     VARIANT_NAMES,
 };
 
-const KEYS: [&str; 27] = [
+const KEYS: [&str; 28] = [
     "paused",
     "time",
     "speed",
@@ -41,6 +42,7 @@ const KEYS: [&str; 27] = [
     "count",
     "crowdLod",
     "morphs",
+    "preset",
 ];
 
 /// Reads a `setState` object.
@@ -148,6 +150,7 @@ pub fn parse_update(obj: &JsValue, clips: &[String]) -> Result<Update, String> {
             }
             "crowdLod" => u.crowd_lod = Some(v.boolean()?),
             "morphs" => u.morphs = Some(v.boolean()?),
+            "preset" => u.preset = Some(v.choice(&PRESET_NAMES, Preset::named)?),
             "count" => u.crowd_count = Some(v.number(1.0, MAX_INSTANCES as f64)?.round() as usize),
             _ => unreachable!("entries() checked the key against KEYS"),
         }

@@ -7,7 +7,8 @@ use crate::render::viewer::settings::{method_name, overlay_name, DistanceMode};
 
 impl Inner {
     /// The meter's summary for `state()`: per method, the last completed transition's pop
-    /// (silhouette in percent of the view's pixels, shading in mean |ΔRGB| 0..765), or null.
+    /// (silhouette in percent of the view's pixels, shading in mean |ΔRGB| 0..765), with the
+    /// same without the control (`uncontrolled`), or null.
     fn meter_json(&self) -> String {
         // Per view, the frame-to-frame change of its difference over the history: silhouette in
         // percent of the view's pixels, shading in mean |ΔRGB|.
@@ -35,13 +36,14 @@ impl Inner {
             if pops.is_empty() {
                 return "null".into();
             }
-            let silhouette = pops.iter().map(|p| p.silhouette).fold(0.0, f32::max);
-            let shading = pops.iter().map(|p| p.shading).fold(0.0, f32::max);
+            let largest = |f: fn(&crate::render::meter::Pop) -> f32| pops.iter().map(f).fold(0.0, f32::max);
             format!(
-                "{{\"silhouette\":{},\"shading\":{},\"transitions\":{}}}",
-                num(100.0 * silhouette),
-                num(shading),
-                self.meter.transitions
+                "{{\"silhouette\":{},\"shading\":{},\"transitions\":{},\"uncontrolled\":{{\"silhouette\":{},\"shading\":{}}}}}",
+                num(100.0 * largest(|p| p.silhouette)),
+                num(largest(|p| p.shading)),
+                self.meter.transitions,
+                num(100.0 * largest(|p| p.uncontrolled.silhouette)),
+                num(largest(|p| p.uncontrolled.shading)),
             )
         };
         format!(
@@ -60,7 +62,9 @@ impl Inner {
     }
 
     /// The meter's recent samples for the page's strip chart: `{ methods, samples: [[time,
-    /// transitionRunning, silhouette % and shading of each view…]] }`, oldest first.
+    /// transitionRunning, silhouette % and shading of each view…]], steps: [[silhouette % and
+    /// shading of each view's step…]] }` (steps: against each view's control, see
+    /// [`crate::render::meter`]), oldest first.
     pub(super) fn meter_history_json(&self) -> String {
         let methods = &self.model.settings.methods[..self.model.settings.view_count];
         let names: Vec<String> = methods.iter().map(|m| json_str(method_name(*m))).collect();
@@ -74,7 +78,22 @@ impl Inner {
                 format!("[{},{},{}]", num(s.time as f32), s.transition.is_running(), values.join(","))
             })
             .collect();
-        format!("{{\"methods\":[{}],\"samples\":[{}]}}", names.join(","), samples.join(","))
+        let steps: Vec<String> = self
+            .meter
+            .history
+            .iter()
+            .map(|s| {
+                let values: Vec<String> =
+                    s.steps.iter().flat_map(|v| [num(100.0 * v.silhouette), num(v.shading)]).collect();
+                format!("[{}]", values.join(","))
+            })
+            .collect();
+        format!(
+            "{{\"methods\":[{}],\"samples\":[{}],\"steps\":[{}]}}",
+            names.join(","),
+            samples.join(","),
+            steps.join(",")
+        )
     }
 
     pub(super) fn state_json(&self) -> String {
@@ -123,7 +142,7 @@ impl Inner {
                 "\"yaw\":{},\"pitch\":{},\"pan\":[{},{}],\"distanceMode\":{},\"overlay\":{},",
                 "\"transition\":{},\"duration\":{},\"zone\":{},\"transitionSpeed\":{},\"magnify\":{},",
                 "\"meter\":{},\"continuousTriangles\":{},\"maxTriangles\":{},\"stacked\":{},\"views\":[{}],\"frames\":{},",
-                "\"morphTargets\":{},\"morphs\":{},\"mode\":{},\"crowd\":{},\"errors\":[{}],\"warnings\":[{}]}}"
+                "\"morphTargets\":{},\"morphs\":{},\"mode\":{},\"crowd\":{},\"preset\":{},\"errors\":[{}],\"warnings\":[{}]}}"
             ),
             json_str(self.renderer.backend),
             json_str(&self.renderer.adapter_name),
@@ -170,6 +189,7 @@ impl Inner {
             s.morphs && !self.renderer.morphs_dropped(),
             json_str(if s.crowd { "crowd" } else { "single" }),
             self.crowd_json(),
+            preset_json(s),
             list(&self.errors),
             list(&self.warnings),
         )
@@ -192,6 +212,27 @@ impl Inner {
             c.palette.rows,
         )
     }
+}
+
+/// `state().preset`: the preset the settings match (`null` after a control moved), and each
+/// setting the presets differ in with its current, demonstration and realistic values.
+fn preset_json(s: &crate::render::viewer::settings::Settings) -> String {
+    use crate::render::viewer::preset::{Preset, PRESET_VALUES};
+    let values: Vec<String> = PRESET_VALUES
+        .iter()
+        .map(|v| {
+            format!(
+                "{{\"key\":{},\"label\":{},\"value\":{},\"demonstration\":{},\"realistic\":{}}}",
+                json_str(v.key),
+                json_str(v.label),
+                num(v.current(s)),
+                num(v.demonstration),
+                num(v.realistic)
+            )
+        })
+        .collect();
+    let name = Preset::of(s).map_or("null".to_string(), |p| json_str(p.name()));
+    format!("{{\"name\":{},\"values\":[{}]}}", name, values.join(","))
 }
 
 pub(super) fn num(x: f32) -> String {

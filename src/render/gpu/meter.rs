@@ -1,6 +1,6 @@
 //! The live meter's GPU side (see [`crate::render::meter`]): each measured frame draws the
-//! full-detail reference and every view's plan, at the same pose and camera, into small targets
-//! cleared to alpha 0, copies them into a mappable buffer and maps it; a later frame reads the
+//! full-detail reference, every view's plan and every view's control (its plan of the previous
+//! measured frame), at the same pose and camera, into small targets cleared to alpha 0, copies them into a mappable buffer and maps it; a later frame reads the
 //! pictures once the map has resolved. Nothing waits: a frame whose buffers are all in flight is
 //! not measured.
 
@@ -18,6 +18,8 @@ use crate::render::schedule::Transition;
 pub const METER_HEIGHT: u32 = 256;
 /// Readbacks in flight at once: a map resolves a frame or two after its submit.
 const IN_FLIGHT: usize = 3;
+/// Pictures a frame draws at most: the reference, three views and their three controls.
+pub(super) const PICTURES: usize = 7;
 
 /// What one meter picture draws: a view's plan, or a crowd view's instanced draws.
 enum Picture<'a> {
@@ -37,16 +39,26 @@ impl Picture<'_> {
     }
 }
 
+/// The index of `picture` among `plans`, added if no picture there draws the same pixels.
+fn place<'p>(plans: &mut Vec<Picture<'p>>, picture: Picture<'p>) -> usize {
+    plans.iter().position(|p| p.same_pixels(&picture)).unwrap_or_else(|| {
+        plans.push(picture);
+        plans.len() - 1
+    })
+}
+
 /// The pictures of one measured frame, RGBA8 or BGRA8 (the channel order does not matter to the
 /// difference), rows top first: `pictures[0]` is the reference, `pictures[view_picture[i]]` view
-/// `i`'s (views with the same plan, and views at rest on level 0, share a picture: they are the
-/// same pixels, as the fairness test checks).
+/// `i`'s and `pictures[control_picture[i]]` its control's (equal plans share a picture: views
+/// with the same plan, views at rest on level 0, a view whose plan held and its control; they are
+/// the same pixels, as the fairness test checks).
 pub struct MeterFrame {
     pub tag: u64,
     pub width: u32,
     pub height: u32,
     pub pictures: Vec<Vec<u8>>,
     pub view_picture: Vec<usize>,
+    pub control_picture: Vec<usize>,
 }
 
 struct Readback {
@@ -56,6 +68,7 @@ struct Readback {
     tag: u64,
     pictures: usize,
     view_picture: Vec<usize>,
+    control_picture: Vec<usize>,
 }
 
 pub(super) struct MeterGpu {
@@ -83,7 +96,7 @@ impl MeterGpu {
     fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sample_count: u32, aspect: f32) -> Self {
         let height = METER_HEIGHT;
         let width = ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT);
-        let textures: Vec<_> = (0..4)
+        let textures: Vec<_> = (0..PICTURES)
             .map(|_| {
                 device.create_texture(&wgpu::TextureDescriptor {
                     label: Some("meter picture"),
@@ -108,16 +121,17 @@ impl MeterGpu {
 
 impl Renderer {
     /// Records the meter's draws of `frame` into `encoder` and returns the picture of each view
-    /// (an index; 0 is the reference). With `tag`, the pictures are also copied for reading back
+    /// (an index; 0 is the reference), and whether they will be read back. With `tag`, the
+    /// pictures and the views' controls (`frame.controls`) are also copied for reading back
     /// (started by [`Renderer::map_meter`] after the submit) unless every readback is in flight;
-    /// without, they are drawn for the difference overlay only.
+    /// without, the views are drawn for the difference overlay only.
     pub(super) fn encode_meter(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameInput,
         tag: Option<u64>,
         slot: &mut u64,
-    ) -> Vec<usize> {
+    ) -> (Vec<usize>, bool) {
         let aspect = frame.views[0].0.aspect();
         let mut cache = self.meter.borrow_mut();
         let fits = |m: &MeterGpu| {
@@ -128,6 +142,7 @@ impl Renderer {
         }
         let meter = cache.as_mut().expect("just made");
         let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
+        let tag = tag.filter(|_| meter.in_flight.len() < IN_FLIGHT);
         let reference_plan = plan_view(Method::Popping, &Transition::at(0));
         let reference = match frame.crowd {
             Some(crowd) => Picture::Crowd(&crowd.reference),
@@ -138,17 +153,21 @@ impl Renderer {
         let view_picture: Vec<usize> = frame.views[..views]
             .iter()
             .enumerate()
-            .map(|(i, (_, plan))| {
-                let picture = match frame.crowd {
-                    Some(crowd) => Picture::Crowd(crowd.views.get(i).map_or(&[], Vec::as_slice)),
-                    None => Picture::Plan(plan),
-                };
-                plans.iter().position(|p| p.same_pixels(&picture)).unwrap_or_else(|| {
-                    plans.push(picture);
-                    plans.len() - 1
-                })
+            .map(|(i, (_, plan))| match frame.crowd {
+                Some(crowd) => {
+                    place(&mut plans, Picture::Crowd(crowd.views.get(i).map_or(&[], Vec::as_slice)))
+                }
+                None => place(&mut plans, Picture::Plan(plan)),
             })
             .collect();
+        // Controls only for the single character's measured frames (a crowd's many transitions
+        // are measured by their changes, see `TransitionMeter::changes`).
+        let control_picture: Vec<usize> = match (frame.controls, frame.crowd, tag) {
+            (Some(controls), None, Some(_)) => {
+                controls[..views].iter().map(|plan| place(&mut plans, Picture::Plan(plan))).collect()
+            }
+            _ => view_picture.clone(),
+        };
         let clear = wgpu::Color { a: 0.0, ..frame_targets::background_for(self.color_format) };
         for (i, picture) in plans.iter().enumerate() {
             let (color, resolve) = match &meter.msaa {
@@ -161,13 +180,13 @@ impl Renderer {
                 Picture::Crowd(draws) => self.draw_crowd_view(&mut pass, draws, [0.0; 2], slot),
             }
         }
-        let Some(tag) = tag.filter(|_| meter.in_flight.len() < IN_FLIGHT) else { return view_picture };
+        let Some(tag) = tag else { return (view_picture, false) };
         let row = padded_row(meter.width);
         let picture_bytes = u64::from(row) * u64::from(meter.height);
         let buffer = meter.free.pop().unwrap_or_else(|| {
             self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("meter readback"),
-                size: 4 * picture_bytes,
+                size: PICTURES as u64 * picture_bytes,
                 usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                 mapped_at_creation: false,
             })
@@ -193,8 +212,9 @@ impl Renderer {
             tag,
             pictures,
             view_picture: view_picture.clone(),
+            control_picture,
         });
-        view_picture
+        (view_picture, true)
     }
 
     /// Starts mapping the readback recorded last (after its submit).
@@ -232,8 +252,16 @@ impl Renderer {
                                 .collect()
                         })
                         .collect();
-                    let view_picture = readback.view_picture.clone();
-                    out.push(MeterFrame { tag: readback.tag, width, height, pictures, view_picture });
+                    let (view_picture, control_picture) =
+                        (readback.view_picture.clone(), readback.control_picture.clone());
+                    out.push(MeterFrame {
+                        tag: readback.tag,
+                        width,
+                        height,
+                        pictures,
+                        view_picture,
+                        control_picture,
+                    });
                 }
                 readback.buffer.unmap();
             }

@@ -67,8 +67,8 @@ pub enum BackendChoice {
 /// Bytes per bone-line vertex: one model-space `vec3<f32>`.
 const BONE_VERTEX_STRIDE: u64 = 12;
 /// Draw-call slots of the per-draw uniform buffer, all written before one submit: 3 views × 2
-/// draws, and the live meter's reference and 3 views × 2 draws again.
-const DRAW_SLOTS: u64 = 13;
+/// draws, and the live meter's reference, 3 views × 2 draws and their 3 controls × 2 draws.
+const DRAW_SLOTS: u64 = 19;
 /// Level-skipping geomorph buffers kept: a dolly moves between neighbouring pairs, so a few
 /// cover it, and each costs as much as its fine level's vertex buffer (3.7 MB for the built-in
 /// character's finest level).
@@ -114,6 +114,9 @@ pub struct FrameInput<'a> {
     pub overlay: Overlay,
     /// Measure this frame for the live meter, tagged with this number (see `meter`).
     pub meter: Option<u64>,
+    /// Each view's control for the meter: its plan of the previous measured frame, drawn at this
+    /// frame's pose and camera (see [`crate::render::meter`]); `None` measures no steps.
+    pub controls: Option<[&'a ViewPlan; 3]>,
     /// Crowd mode: each view draws the crowd's instanced draws instead of its plan (whose
     /// records [`Renderer::set_crowd_instances`] has written), the meter's reference too.
     pub crowd: Option<&'a CrowdFrame>,
@@ -437,30 +440,37 @@ impl Renderer {
         }
     }
 
-    /// Draws a frame to the canvas.
-    pub fn render(&self, frame: &FrameInput) {
+    /// Draws a frame to the canvas; returns whether its meter pictures will be read back (a
+    /// frame that finds every readback in flight is not measured).
+    pub fn render(&self, frame: &FrameInput) -> bool {
         let texture = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return false,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 // Reconfigure and draw next frame; a surface that stays lost shows up as errors.
                 self.surface.configure(&self.device, &self.config);
-                return;
+                return false;
             }
             other => {
                 push_error(&self.errors, NO_FRAME, &format!("the canvas could not give a frame: {other:?}"));
-                return;
+                return false;
             }
         };
-        let commands = self.encode(frame, &texture.texture);
+        let (commands, measured) = self.encode_measured(frame, &texture.texture);
         self.queue.submit([commands]);
-        if frame.meter.is_some() {
+        if measured {
             self.map_meter();
         }
         self.queue.present(texture);
+        measured
     }
 
     fn encode(&self, frame: &FrameInput, target: &wgpu::Texture) -> wgpu::CommandBuffer {
+        self.encode_measured(frame, target).0
+    }
+
+    /// Records a frame into `target`; also says whether its meter pictures are read back.
+    fn encode_measured(&self, frame: &FrameInput, target: &wgpu::Texture) -> (wgpu::CommandBuffer, bool) {
         let mut camera = frame.camera;
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
@@ -489,10 +499,10 @@ impl Renderer {
         let mut slot = 0u64;
         // The meter's pictures first: the difference overlay reads them in the views' passes.
         let difference = frame.overlay == Overlay::Difference;
-        let pictures = if frame.meter.is_some() || difference {
+        let (pictures, measured) = if frame.meter.is_some() || difference {
             self.encode_meter(&mut encoder, frame, frame.meter, &mut slot)
         } else {
-            Vec::new()
+            (Vec::new(), false)
         };
         let heat = |pass: &mut wgpu::RenderPass, i: usize, origin: [f32; 2], rect: &Rect| {
             if let Some(&picture) = pictures.get(i).filter(|_| difference) {
@@ -509,7 +519,7 @@ impl Renderer {
                 *cache = (size.width > 0 && size.height > 0)
                     .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
             }
-            let Some(targets) = cache.as_ref() else { return encoder.finish() };
+            let Some(targets) = cache.as_ref() else { return (encoder.finish(), measured) };
             for (i, (rect, plan)) in frame.views.iter().enumerate() {
                 if !visible(rect) || (rect.width, rect.height) != (targets.width, targets.height) {
                     continue;
@@ -569,7 +579,7 @@ impl Renderer {
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
         }
-        encoder.finish()
+        (encoder.finish(), measured)
     }
 
     /// Records view `i` of `frame`: the crowd's instanced draws in crowd mode, else its `plan`.

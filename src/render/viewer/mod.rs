@@ -12,6 +12,7 @@
 //! §3.2: a geomorph joins any two states). Its two meshes are drawn as levels `levels` (the finer
 //! state) and `levels + 1` (the coarser), so the plans read like those of discrete levels.
 
+pub mod preset;
 pub mod settings;
 
 use glam::{Vec2, Vec3};
@@ -132,11 +133,14 @@ impl ViewerModel {
     }
 
     /// Replaces the discrete levels (their geometric errors, finest first): the levels arriving
-    /// after the full mesh was shown alone. The slider turns off and the view settles at the level
-    /// the distance selects, without a transition from the finest.
+    /// after the full mesh was shown alone. The slider turns off, the dolly starts its sweep
+    /// again from the framing distance (so a reader sees the levels change from the start of a
+    /// sweep, however long the build took) and the view settles at the level the distance
+    /// selects, without a transition from the finest.
     pub fn set_levels(&mut self, errors: Vec<f32>) {
         self.errors = if errors.is_empty() { vec![0.0] } else { errors };
         self.slider = None;
+        self.dolly_time = 0.0;
         // The crowd is laid out for the levels' switch distances: the web layer starts it again
         // with the new levels' triangle counts.
         self.crowd = None;

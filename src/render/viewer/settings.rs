@@ -155,6 +155,8 @@ pub struct Update {
     pub crowd_count: Option<usize>,
     pub crowd_lod: Option<bool>,
     pub morphs: Option<bool>,
+    /// A preset's settings, applied before the call's other keys (see [`super::preset`]).
+    pub preset: Option<super::preset::Preset>,
 }
 
 impl Update {
@@ -166,6 +168,9 @@ impl Update {
                     s.$field = v;
                 }
             };
+        }
+        if let Some(preset) = self.preset {
+            preset.apply(s);
         }
         if self.reset_camera {
             let d = Settings::default();

@@ -191,3 +191,14 @@ fn levels_arriving_later_start_at_the_selected_level() {
         "no transition from the finest"
     );
 }
+
+#[test]
+fn the_dolly_sweeps_from_the_start_when_the_levels_arrive() {
+    let mut m = ViewerModel::new((Vec3::ZERO, 1.0), vec![0.0], 900, 300);
+    for _ in 0..30 {
+        m.advance(0.1);
+    }
+    assert!(m.distance > 1.01 * m.framing, "the dolly moved while the full mesh was shown alone");
+    m.set_levels(ERRORS.to_vec());
+    assert_eq!((m.dolly_time, m.distance), (0.0, m.framing));
+}

@@ -1,0 +1,73 @@
+// (15) The first impression: the default page, untouched (not the tests' ?test=1 mode), opens on
+// the demonstration preset and shows a reader a transition within 20 s of navigation, in every
+// view at once, with popping's silhouette pop ≥ 0.25 % of the view's pixels (the live meter's
+// number, against its control); it says what is exaggerated, and one control switches to the
+// realistic settings and back, kept in the URL. WebGPU and WebGL2, a 1240 × 700 window.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { launch, baseUrl } from './helpers.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const FIRST_SECONDS = 20;
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`${backend}: the default page shows a transition within ${FIRST_SECONDS} s, popping's pop ≥ 0.25 % of the view`, async () => {
+    const page = await browser.newPage({ viewport: { width: 1240, height: 700 }, deviceScaleFactor: 1 });
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(e.message));
+    // Only the backend is chosen (WebGL2 cannot be reached otherwise on a browser with WebGPU).
+    await page.goto(`${baseUrl}?backend=${backend}`);
+    // Watch from inside the page: the first frame whose views show a running transition, in
+    // milliseconds since navigation (performance.now()'s origin), and what every view showed.
+    const seen = await page.evaluate((limitMs) => new Promise((resolve, reject) => {
+      const viewer = document.getElementById('viewer');
+      const timer = setInterval(() => {
+        if (performance.now() > limitMs) { clearInterval(timer); reject(new Error(`no transition within ${limitMs} ms: ${document.getElementById('status').textContent}`)); return; }
+        let s;
+        try { s = viewer.state(); } catch { return; } // not loaded yet
+        const running = s.views.filter((v) => v.to !== v.level);
+        if (running.length) {
+          clearInterval(timer);
+          resolve({ ms: performance.now(), views: s.views.map((v) => [v.method, v.level, v.to, v.t]), preset: s.preset, levels: s.levels.length, distance: s.distance });
+        }
+      }, 50);
+    }), FIRST_SECONDS * 1000);
+    console.log(`${backend}: first transition at ${(seen.ms / 1000).toFixed(1)} s after navigation (distance ${seen.distance.toFixed(2)}): ${JSON.stringify(seen.views)}`);
+    assert.equal(seen.preset.name, 'demonstration');
+    assert.equal(seen.views.length, 3);
+    const [, from, to] = seen.views[0];
+    assert.ok(seen.views.every(([, l, t]) => l === from && t === to), 'every view shows the same change');
+    // The meter's pop of that transition, once it has ended.
+    const meter = await page.waitForFunction(() => {
+      const s = document.getElementById('viewer').state();
+      return s.meter.transitions >= 1 && s.meter;
+    }, null, { timeout: 60_000, polling: 100 }).then((h) => h.jsonValue());
+    const m = (x) => `${x.silhouette.toFixed(3)} % (uncontrolled ${x.uncontrolled.silhouette.toFixed(3)} %), shading ${x.shading.toFixed(3)}`;
+    console.log(`${backend}: first transition's pops: popping ${m(meter.popping)}; alpha ${m(meter.alpha)}; geomorph ${m(meter.geomorph)}`);
+    assert.ok(meter.popping.silhouette >= 0.25, `popping's silhouette pop ${meter.popping.silhouette} % ≥ 0.25 %`);
+    // The page says what is exaggerated, next to the realistic values.
+    const note = await page.locator('#preset-text').textContent();
+    assert.match(note, /Exaggerated for demonstration: a 2\.4 px threshold \(realistic: a 0\.5 px threshold\), magnified ×2 \(realistic: real size\)/);
+    assert.match(await page.locator('clod-viewer .clod-label').first().textContent(), /magnified ×2/);
+    // One control to the realistic settings and back, kept in the URL.
+    await page.click('#preset-toggle');
+    await page.waitForFunction(() => location.search.includes('settings=realistic'), null, { timeout: 5000 });
+    let s = await page.evaluate(() => document.getElementById('viewer').state());
+    assert.deepEqual([s.preset.name, s.preset.values[0].value, s.magnify, s.transitionSpeed, s.overlay], ['realistic', 0.5, 1, 1, 'none']);
+    assert.match(await page.locator('#preset-text').textContent(), /^Realistic settings/);
+    // A reload keeps it.
+    await page.reload();
+    await page.waitForFunction(() => document.documentElement.dataset.state === 'ready', null, { timeout: 120_000 });
+    s = await page.evaluate(() => document.getElementById('viewer').state());
+    assert.equal(s.preset.name, 'realistic');
+    await page.click('#preset-toggle');
+    await page.waitForFunction(() => !location.search.includes('settings='), null, { timeout: 5000 });
+    s = await page.evaluate(() => document.getElementById('viewer').state());
+    assert.equal(s.preset.name, 'demonstration');
+    assert.deepEqual(errors, []);
+    await page.close();
+  });
+}
