@@ -1,10 +1,11 @@
-//! The renderer's WGSL (`skin.wgsl`, `crowd.wgsl`, `mipmap.wgsl`), checked without a GPU: it parses and
+//! The renderer's WGSL (`skin.wgsl`, `crowd.wgsl`, `mipmap.wgsl`, `difference.wgsl`, `flip.wgsl`), checked without a GPU: it parses and
 //! validates with naga (what wgpu runs on it), every entry point translates to GLSL ES 3.00 for
 //! WebGL2, and each uniform struct has the size of its `#[repr(C)]` Rust mirror (naga's layouter
 //! gives WGSL's size).
 
 use clod_viewer::render::crowd::{InstanceRaw, INSTANCE_OFFSETS};
 use clod_viewer::render::difference::{AreaRaw, DIFFERENCE_WGSL};
+use clod_viewer::render::flip::{FlipKernelsRaw, FLIP_WGSL};
 use clod_viewer::render::mipmap::MIPMAP_WGSL;
 use clod_viewer::render::uniforms::{CROWD_WGSL, MAX_MORPH_TARGETS, MIRRORS, SKIN_WGSL};
 use naga::back::glsl;
@@ -104,6 +105,19 @@ fn difference_shader_validates_translates_and_matches_its_uniform_mirror() {
     layouter.update(module.to_ctx()).expect("layout");
     let area = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Area")).expect("struct Area");
     assert_eq!(layouter[area.0].size as usize, std::mem::size_of::<AreaRaw>());
+}
+
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn flip_shader_validates_translates_and_matches_its_kernel_mirror() {
+    assert_eq!(entry_points(FLIP_WGSL), ["fs_error", "fs_horizontal", "vs_flip"]);
+    translates_to_webgl2_glsl(FLIP_WGSL);
+    let (module, _) = parse_and_validate(FLIP_WGSL);
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let kernels =
+        module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Kernels")).expect("struct Kernels");
+    assert_eq!(layouter[kernels.0].size as usize, std::mem::size_of::<FlipKernelsRaw>());
 }
 
 /// Every entry point of `source` translates to GLSL ES 3.00, as wgpu does for WebGL2.

@@ -11,6 +11,7 @@
 pub mod camera;
 pub mod crowd;
 pub mod difference;
+pub mod flip;
 pub mod joint_texture;
 pub mod layout;
 pub mod lod_source;
