@@ -288,6 +288,10 @@ export class ClodViewerElement extends HTMLElement {
   textureLevels(i: number): Promise<{ width: number; height: number; mean: [number, number, number, number] }[]>;
   /** Resolves when the GPU has finished the submitted frames. */
   finish(): Promise<void>;
+  /** LDR-FLIP (Andersson et al. 2020) of two RGBA8 sRGB pictures on the viewer's GPU, seen at
+   * `ppd` pixels per degree (default 67.02): the error map's mean, 99th percentile and maximum,
+   * or null where the GPU cannot render into float targets. */
+  flipImages(reference: Uint8Array, test: Uint8Array, width: number, height: number, ppd?: number): Promise<{ mean: number; p99: number; max: number; ppd: number } | null>;
   /** A PNG of the current frame with the views' labels. */
   screenshot(): Promise<Blob>;
   /** Shows another model; on failure the previous one keeps playing. */

@@ -24,7 +24,8 @@
 // `{ code, message }`, once per failure; `code` is one of ERROR_CODES), `meter` (detail: `meter()`,
 // when the live meter has measured a transition).
 // Methods: play(), pause(), setTime(seconds), setState({...}), state(), meter(), meterHistory(),
-// load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i).
+// load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i),
+// flipImages(reference, test, width, height, ppd).
 
 const here = new URL('.', import.meta.url);
 const DEFAULT_SRC = new URL('assets/character.glb', here).href;
@@ -335,6 +336,11 @@ export class ClodViewerElement extends HTMLElement {
   textureLevels(i) { return this.#requireViewer().textureLevels(i); }
   /** Resolves when the GPU has finished the submitted frames. */
   finish() { return this.#requireViewer().finish(); }
+  /**
+   * LDR-FLIP of two RGBA8 sRGB pictures on the viewer's GPU (flip.wgsl): resolves to
+   * `{ mean, p99, max, ppd }`, or null where the GPU cannot render into float targets.
+   */
+  flipImages(reference, test, width, height, ppd = 67.02) { return this.#requireViewer().flipImages(reference, test, width, height, ppd); }
   /**
    * The live meter's last completed transition per method: `{ popping, alpha, geomorph }`, each
    * `{ silhouette, shading, transitions }` (silhouette: the largest frame-to-frame change, in % of

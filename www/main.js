@@ -472,6 +472,7 @@ function exposeTestHook() {
     finish: () => viewer.finish(),
     state: () => viewer.state(),
     measurePopSpike: (options) => viewer.measurePopSpike(options),
+    flipImages: (reference, test, width, height, ppd) => viewer.flipImages(reference, test, width, height, ppd),
     load: (name, bytes) => viewer.load({ name, bytes, resources: null }),
   };
 }

@@ -73,18 +73,20 @@ struct Horizontal {
 fn fs_horizontal(@builtin(position) position: vec4<f32>) -> Horizontal {
     let xy = vec2<i32>(position.xy);
     let rs = i32(kernels.radii.x);
-    var s = vec4<f32>(0.0);
-    for (var i = -rs; i <= rs; i++) {
-        let c = opponent(xy + vec2<i32>(i, 0));
-        let w = kernels.spatial[i + rs];
-        s += vec4<f32>(w.x * c.x, w.y * c.y, w.z * c.z, w.w * c.z);
-    }
     let rf = i32(kernels.radii.y);
+    var s = vec4<f32>(0.0);
     var f = vec3<f32>(0.0);
-    for (var i = -rf; i <= rf; i++) {
-        let lightness = (opponent(xy + vec2<i32>(i, 0)).x + 16.0) / 116.0;
-        let w = kernels.feature[i + rf];
-        f += vec3<f32>(w.y, w.z, w.x) * lightness;
+    // One loop over both kernels: each texel is converted once.
+    for (var i = -max(rs, rf); i <= max(rs, rf); i++) {
+        let c = opponent(xy + vec2<i32>(i, 0));
+        if abs(i) <= rs {
+            let w = kernels.spatial[i + rs];
+            s += vec4<f32>(w.x * c.x, w.y * c.y, w.z * c.z, w.w * c.z);
+        }
+        if abs(i) <= rf {
+            let w = kernels.feature[i + rf];
+            f += vec3<f32>(w.y, w.z, w.x) * ((c.x + 16.0) / 116.0);
+        }
     }
     return Horizontal(s, vec4<f32>(f, 0.0));
 }

@@ -9,7 +9,10 @@
 //!   by a fraction of a pixel, or a level that fades in, changes it by a fraction, not a whole
 //!   pixel at a threshold;
 //! - **shading**: `|ΔR| + |ΔG| + |ΔB|` (0..765, 8-bit sRGB) summed over the pixels both cover
-//!   fully (alpha 255), divided by all of the view's pixels.
+//!   fully (alpha 255), divided by all of the view's pixels;
+//! - **FLIP**: the mean LDR-FLIP error (Andersson et al. 2020, [`crate::render::flip`]) over the
+//!   view's pixels, 0..1, computed on the GPU from the same pictures, seen at the pixels per
+//!   degree the meter's picture has when the view is seen at FLIP's standard 67 ppd.
 //!
 //! **The pop isolates the transition.** Each measured frame also draws every view's *control*:
 //! the same frame (pose, camera, clock) drawn with the plan that view had in the previous measured
@@ -38,6 +41,9 @@ pub struct FrameDifference {
     pub silhouette: f32,
     /// Mean `|ΔRGB|` per pixel of the view (0..765) over pixels both cover fully.
     pub shading: f32,
+    /// Mean LDR-FLIP error over the view's pixels (0..1, see [`crate::render::flip`]; 0 where
+    /// the GPU cannot compute it).
+    pub flip: f32,
 }
 
 /// The difference of two RGBA8 pictures of the same size (see the module docs).
@@ -61,6 +67,7 @@ pub fn frame_difference(reference: &[u8], view: &[u8]) -> FrameDifference {
     FrameDifference {
         silhouette: outline as f32 / (255.0 * pixels as f32),
         shading: shading as f32 / pixels as f32,
+        flip: 0.0,
     }
 }
 
@@ -84,6 +91,8 @@ pub struct MeterSample {
 pub struct Pop {
     pub silhouette: f32,
     pub shading: f32,
+    /// The largest mean LDR-FLIP error of a frame against its control.
+    pub flip: f32,
     /// Without the control: the largest frame-to-frame change of each channel of the difference
     /// from the reference (the animation's own change included).
     pub uncontrolled: FrameDifference,
@@ -95,9 +104,11 @@ impl Pop {
     fn grow(&mut self, before: &FrameDifference, after: &FrameDifference, step: &FrameDifference) {
         self.silhouette = self.silhouette.max(step.silhouette);
         self.shading = self.shading.max(step.shading);
+        self.flip = self.flip.max(step.flip);
         let u = &mut self.uncontrolled;
         u.silhouette = u.silhouette.max((after.silhouette - before.silhouette).abs());
         u.shading = u.shading.max((after.shading - before.shading).abs());
+        u.flip = u.flip.max((after.flip - before.flip).abs());
     }
 }
 
@@ -241,8 +252,9 @@ mod tests {
     }
 
     fn stepped(frame: u64, transition: Transition, silhouette: [f32; 2], steps: [f32; 2]) -> MeterSample {
-        let differences =
-            |v: [f32; 2]| v.iter().map(|&s| FrameDifference { silhouette: s, shading: 10.0 * s }).collect();
+        let differences = |v: [f32; 2]| {
+            v.iter().map(|&s| FrameDifference { silhouette: s, shading: 10.0 * s, flip: s / 2.0 }).collect()
+        };
         MeterSample {
             frame,
             time: frame as f64 / 60.0,
@@ -267,7 +279,7 @@ mod tests {
         // Frames at rest after the end belong to no transition: a large change there is ignored.
         assert!(!meter.push(stepped(5, Transition::at(2), [0.9, 0.9], [0.0, 0.0])));
         let pops = meter.last.clone().unwrap();
-        assert_eq!((pops[0].silhouette, pops[0].shading), (0.45, 4.5));
+        assert_eq!((pops[0].silhouette, pops[0].shading, pops[0].flip), (0.45, 4.5, 0.225));
         assert!((pops[1].silhouette - 0.12).abs() < 1e-6, "the last step counts: {:?}", pops[1]);
         assert_eq!(pops[0].uncontrolled.silhouette, 0.5);
         assert!((pops[1].uncontrolled.silhouette - 0.2).abs() < 1e-6, "{:?}", pops[1]);

@@ -33,7 +33,7 @@ use crate::render::camera::OrbitCamera;
 use crate::render::crowd::{Crowd, PosePalette};
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
-use crate::render::meter::{frame_difference, MeterSample, TransitionMeter};
+use crate::render::meter::{frame_difference, FrameDifference, MeterSample, TransitionMeter};
 use crate::render::overlay::bone_segments;
 use crate::render::plan::ViewPlan;
 use crate::render::schedule::Transition;
@@ -79,6 +79,8 @@ struct Inner {
     /// The plans of the last measured frame: each view's control in the next one (see
     /// [`crate::render::meter`]); `None` until a frame is measured.
     meter_controls: Option<[ViewPlan; 3]>,
+    /// Pixels per degree of the meter's last FLIP (`None` until one was computed).
+    flip_ppd: Option<f32>,
     skin: Vec<Mat4>,
     /// Morph-target weights of the same pose, one per target.
     morph_weights: Vec<f32>,
@@ -215,6 +217,7 @@ impl Viewer {
             meter: TransitionMeter::default(),
             meter_pending: Default::default(),
             meter_controls: None,
+            flip_ppd: None,
             skin: Vec::new(),
             morph_weights: Vec::new(),
             bones: Vec::new(),
@@ -349,7 +352,7 @@ impl Viewer {
     #[wasm_bindgen(js_name = meterHistory)]
     pub fn meter_history(&self) -> Result<JsValue, JsError> {
         let json = self.lock().map_or_else(
-            || "{\"methods\":[],\"samples\":[],\"steps\":[]}".into(),
+            || "{\"methods\":[],\"samples\":[],\"steps\":[],\"flip\":[]}".into(),
             |inner| inner.meter_history_json(),
         );
         js_sys::JSON::parse(&json).map_err(|_| JsError::new("meter history is not JSON"))
@@ -401,6 +404,50 @@ impl Viewer {
                 out.push(&item);
             }
             Ok(out.into())
+        })
+    }
+
+    /// LDR-FLIP of two RGBA8 sRGB pictures (`width` × `height`, alpha ignored) seen at `ppd`
+    /// pixels per degree, on this viewer's GPU (`flip.wgsl`): resolves to `{ mean, p99, max, ppd }`
+    /// of the error map, or null where this GPU cannot render into float targets. For checking
+    /// the shader against the reference's numbers, and for a page comparing two pictures.
+    #[wasm_bindgen(js_name = flipImages)]
+    #[allow(clippy::await_holding_refcell_ref)] // as in read_pixels: the viewer stays locked meanwhile
+    pub fn flip_images(
+        &self,
+        reference: Vec<u8>,
+        test: Vec<u8>,
+        width: u32,
+        height: u32,
+        ppd: f32,
+    ) -> js_sys::Promise {
+        let inner = Rc::clone(&self.inner);
+        wasm_bindgen_futures::future_to_promise(async move {
+            let pixels = 4 * width as usize * height as usize;
+            if width == 0 || height == 0 || reference.len() != pixels || test.len() != pixels {
+                return Err(JsError::new("flipImages: two RGBA8 pictures of width × height pixels").into());
+            }
+            if !(ppd > 0.0 && ppd <= crate::render::gpu::MAX_PPD) {
+                let max = crate::render::gpu::MAX_PPD;
+                return Err(JsError::new(&format!("flipImages: ppd in (0, {max}]")).into());
+            }
+            let guard = wait_for(&inner).await;
+            let map = guard
+                .renderer
+                .flip_map(&reference, &test, width, height, ppd)
+                .await
+                .map_err(|e| JsValue::from_str(&e.to_string()))?;
+            let Some(map) = map else { return Ok(JsValue::NULL) };
+            let stats = crate::render::flip::FlipStats::of(&map);
+            let max = map.iter().copied().fold(0.0f32, f32::max);
+            let json = format!(
+                "{{\"mean\":{},\"p99\":{},\"max\":{},\"ppd\":{}}}",
+                state::num(stats.mean),
+                state::num(stats.p99),
+                state::num(max),
+                state::num(ppd)
+            );
+            js_sys::JSON::parse(&json)
         })
     }
 
@@ -620,12 +667,18 @@ impl Inner {
                 continue;
             };
             let Some(reference) = frame.pictures.first() else { continue };
+            // The mean FLIP error of a pair of pictures (0 for a picture against itself).
+            let flip =
+                |pair: (usize, usize)| frame.flip.iter().find(|(p, _)| *p == pair).map_or(0.0, |f| f.1);
             let mut differences = vec![None; frame.pictures.len()];
             let views = frame
                 .view_picture
                 .iter()
                 .map(|&p| {
-                    *differences[p].get_or_insert_with(|| frame_difference(reference, &frame.pictures[p]))
+                    *differences[p].get_or_insert_with(|| FrameDifference {
+                        flip: flip((0, p)),
+                        ..frame_difference(reference, &frame.pictures[p])
+                    })
                 })
                 .collect();
             // Each view against its control: the same picture (the plan held) steps by nothing.
@@ -635,9 +688,15 @@ impl Inner {
                 .zip(&frame.control_picture)
                 .map(|(&v, &c)| match v == c {
                     true => Default::default(),
-                    false => frame_difference(&frame.pictures[c], &frame.pictures[v]),
+                    false => FrameDifference {
+                        flip: flip((c, v)),
+                        ..frame_difference(&frame.pictures[c], &frame.pictures[v])
+                    },
                 })
                 .collect();
+            if frame.flip_ppd.is_some() {
+                self.flip_ppd = frame.flip_ppd;
+            }
             self.meter.push(MeterSample { frame: tag, time, transition, views, steps });
         }
     }

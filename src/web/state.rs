@@ -47,7 +47,7 @@ impl Inner {
             )
         };
         format!(
-            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{},\"changes\":[{}]}}",
+            "{{\"on\":{},\"size\":[{},{}],\"transitions\":{},\"samples\":{},\"gaps\":{},\"popping\":{},\"alpha\":{},\"geomorph\":{},\"changes\":[{}],\"flip\":{}}}",
             self.model.settings.meter,
             (crate::render::gpu::METER_HEIGHT as f32 * self.model.layout.views[0].aspect()).round(),
             crate::render::gpu::METER_HEIGHT,
@@ -58,13 +58,55 @@ impl Inner {
             by_method("alpha"),
             by_method("geomorph"),
             changes.join(","),
+            self.flip_json(),
+        )
+    }
+
+    /// `state().meter.flip`: LDR-FLIP of each view against the reference, `null` where the GPU
+    /// cannot compute it (or before a frame needed it): the pixels per degree of the meter's
+    /// picture, each view's mean error in the last measured frame, and per method the last
+    /// transition's pop (its largest mean error of a frame against its control) and the same
+    /// without the control (the largest frame-to-frame change of the error against the reference).
+    fn flip_json(&self) -> String {
+        let Some(ppd) = self.flip_ppd else { return "null".into() };
+        let views: Vec<String> =
+            self.meter.history.back().map_or(Vec::new(), |s| s.views.iter().map(|v| num(v.flip)).collect());
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
+        let by_method = |name: &str, f: fn(&crate::render::meter::Pop) -> f32| -> String {
+            let Some(last) = &self.meter.last else { return "null".into() };
+            let pops: Vec<f32> = methods
+                .iter()
+                .zip(last)
+                .filter(|(m, _)| method_name(**m) == name)
+                .map(|(_, p)| f(p))
+                .collect();
+            if pops.is_empty() {
+                return "null".into();
+            }
+            num(pops.into_iter().fold(0.0, f32::max))
+        };
+        let pops = |f: fn(&crate::render::meter::Pop) -> f32| {
+            format!(
+                "{{\"popping\":{},\"alpha\":{},\"geomorph\":{}}}",
+                by_method("popping", f),
+                by_method("alpha", f),
+                by_method("geomorph", f)
+            )
+        };
+        format!(
+            "{{\"ppd\":{},\"views\":[{}],\"pop\":{},\"uncontrolled\":{}}}",
+            num(ppd),
+            views.join(","),
+            pops(|p| p.flip),
+            pops(|p| p.uncontrolled.flip)
         )
     }
 
     /// The meter's recent samples for the page's strip chart: `{ methods, samples: [[time,
     /// transitionRunning, silhouette % and shading of each view…]], steps: [[silhouette % and
-    /// shading of each view's step…]] }` (steps: against each view's control, see
-    /// [`crate::render::meter`]), oldest first.
+    /// shading of each view's step…]], flip: [[FLIP against the reference and FLIP of the step,
+    /// per view…]] }` (steps: against each view's control, see [`crate::render::meter`]), oldest
+    /// first.
     pub(super) fn meter_history_json(&self) -> String {
         let methods = &self.model.settings.methods[..self.model.settings.view_count];
         let names: Vec<String> = methods.iter().map(|m| json_str(method_name(*m))).collect();
@@ -88,11 +130,26 @@ impl Inner {
                 format!("[{}]", values.join(","))
             })
             .collect();
+        let flip: Vec<String> = self
+            .meter
+            .history
+            .iter()
+            .map(|s| {
+                let values: Vec<String> = s
+                    .views
+                    .iter()
+                    .zip(&s.steps)
+                    .flat_map(|(v, step)| [num(v.flip), num(step.flip)])
+                    .collect();
+                format!("[{}]", values.join(","))
+            })
+            .collect();
         format!(
-            "{{\"methods\":[{}],\"samples\":[{}],\"steps\":[{}]}}",
+            "{{\"methods\":[{}],\"samples\":[{}],\"steps\":[{}],\"flip\":[{}]}}",
             names.join(","),
             samples.join(","),
-            steps.join(",")
+            steps.join(","),
+            flip.join(",")
         )
     }
 

@@ -7,7 +7,8 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use super::{frame_targets, FrameInput, Renderer};
+use super::{flip, frame_targets, FrameInput, Renderer};
+use crate::render::flip::{unpack_error, DEFAULT_PPD};
 use crate::render::overlay::Overlay;
 use crate::render::plan::{plan_view, Method, ViewPlan};
 use crate::render::schedule::Transition;
@@ -20,6 +21,8 @@ pub const METER_HEIGHT: u32 = 256;
 const IN_FLIGHT: usize = 3;
 /// Pictures a frame draws at most: the reference, three views and their three controls.
 pub(super) const PICTURES: usize = 7;
+/// FLIP error maps a frame computes at most: each view against the reference and its control.
+const ERROR_SLOTS: usize = 6;
 
 /// What one meter picture draws: a view's plan, or a crowd view's instanced draws.
 enum Picture<'a> {
@@ -59,6 +62,25 @@ pub struct MeterFrame {
     pub pictures: Vec<Vec<u8>>,
     pub view_picture: Vec<usize>,
     pub control_picture: Vec<usize>,
+    /// Mean LDR-FLIP error of each compared pair of pictures `(reference, test)` (see
+    /// [`flip_pairs`]), and the pixels per degree it was computed at; empty where the GPU has no
+    /// FLIP.
+    pub flip: Vec<((usize, usize), f32)>,
+    pub flip_ppd: Option<f32>,
+}
+
+/// The pairs of pictures FLIP compares in a frame, each once: every view's picture against the
+/// reference (0) and against its control, where they are different pictures.
+pub fn flip_pairs(view_picture: &[usize], control_picture: &[usize]) -> Vec<(usize, usize)> {
+    let mut pairs = Vec::new();
+    for (&v, &c) in view_picture.iter().zip(control_picture) {
+        for pair in [(0, v), (c, v)] {
+            if pair.0 != pair.1 && !pairs.contains(&pair) {
+                pairs.push(pair);
+            }
+        }
+    }
+    pairs
 }
 
 struct Readback {
@@ -69,6 +91,8 @@ struct Readback {
     pictures: usize,
     view_picture: Vec<usize>,
     control_picture: Vec<usize>,
+    flip_pairs: Vec<(usize, usize)>,
+    flip_ppd: Option<f32>,
 }
 
 pub(super) struct MeterGpu {
@@ -76,6 +100,9 @@ pub(super) struct MeterGpu {
     height: u32,
     textures: Vec<wgpu::Texture>,
     views: Vec<wgpu::TextureView>,
+    /// Each picture's horizontal FLIP filters and the error maps (where the GPU has FLIP).
+    filtered: Vec<flip::Filtered>,
+    errors: Vec<wgpu::Texture>,
     msaa: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     free: Vec<wgpu::Buffer>,
@@ -93,7 +120,13 @@ impl MeterGpu {
         self.views.get(i)
     }
 
-    fn new(device: &wgpu::Device, format: wgpu::TextureFormat, sample_count: u32, aspect: f32) -> Self {
+    fn new(
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        sample_count: u32,
+        aspect: f32,
+        flip: bool,
+    ) -> Self {
         let height = METER_HEIGHT;
         let width = ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT);
         let textures: Vec<_> = (0..PICTURES)
@@ -115,7 +148,25 @@ impl MeterGpu {
             .collect();
         let views = textures.iter().map(|t| t.create_view(&Default::default())).collect();
         let (depth, msaa) = frame_targets::targets(device, format, sample_count, width, height);
-        Self { width, height, textures, views, msaa, depth, free: Vec::new(), in_flight: Vec::new() }
+        let (filtered, errors) = match flip {
+            true => (
+                (0..PICTURES).map(|_| flip::Filtered::new(device, width, height)).collect(),
+                (0..ERROR_SLOTS).map(|_| flip::target(device, flip::ERROR_FORMAT, width, height)).collect(),
+            ),
+            false => (Vec::new(), Vec::new()),
+        };
+        Self {
+            width,
+            height,
+            textures,
+            views,
+            filtered,
+            errors,
+            msaa,
+            depth,
+            free: Vec::new(),
+            in_flight: Vec::new(),
+        }
     }
 }
 
@@ -138,7 +189,13 @@ impl Renderer {
             m.width == ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT)
         };
         if !cache.as_ref().is_some_and(fits) {
-            *cache = Some(MeterGpu::new(&self.device, self.color_format, self.sample_count, aspect));
+            *cache = Some(MeterGpu::new(
+                &self.device,
+                self.color_format,
+                self.sample_count,
+                aspect,
+                self.flip.is_some(),
+            ));
         }
         let meter = cache.as_mut().expect("just made");
         let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
@@ -181,17 +238,51 @@ impl Renderer {
             }
         }
         let Some(tag) = tag else { return (view_picture, false) };
+        // FLIP of each view against the reference and its control, at the pixels per degree of
+        // the meter's picture when the view is seen at FLIP's standard 67 ppd.
+        let mut flip_pairs = match frame.crowd {
+            None => flip_pairs(&view_picture, &control_picture),
+            Some(_) => Vec::new(),
+        };
+        let mut flip_ppd = None;
+        match &self.flip {
+            Some(flip) if !flip_pairs.is_empty() && !meter.errors.is_empty() => {
+                let view_height = frame.views[0].0.height.max(1) as f32;
+                let ppd = DEFAULT_PPD * METER_HEIGHT as f32 / view_height;
+                flip_ppd = Some(flip.set_kernels(&self.queue, ppd, !self.color_format.is_srgb()));
+                let mut filtered = vec![false; plans.len()];
+                for &(a, b) in &flip_pairs {
+                    for p in [a, b] {
+                        if !std::mem::replace(&mut filtered[p], true) {
+                            flip.encode_horizontal(
+                                &self.device,
+                                encoder,
+                                &meter.views[p],
+                                &meter.filtered[p],
+                            );
+                        }
+                    }
+                }
+                for (slot, &(a, b)) in flip_pairs.iter().enumerate() {
+                    let out = meter.errors[slot].create_view(&Default::default());
+                    flip.encode_error(&self.device, encoder, &meter.filtered[a], &meter.filtered[b], &out);
+                }
+            }
+            _ => flip_pairs.clear(),
+        }
         let row = padded_row(meter.width);
         let picture_bytes = u64::from(row) * u64::from(meter.height);
         let buffer = meter.free.pop().unwrap_or_else(|| {
             self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("meter readback"),
-                size: PICTURES as u64 * picture_bytes,
+                size: (PICTURES + ERROR_SLOTS) as u64 * picture_bytes,
                 usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                 mapped_at_creation: false,
             })
         });
-        for (i, texture) in meter.textures.iter().enumerate().take(plans.len()) {
+        let copies = meter.textures.iter().take(plans.len()).enumerate();
+        let maps = meter.errors.iter().take(flip_pairs.len()).enumerate().map(|(s, t)| (PICTURES + s, t));
+        for (i, texture) in copies.chain(maps) {
             encoder.copy_texture_to_buffer(
                 texture.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
@@ -213,6 +304,8 @@ impl Renderer {
             pictures,
             view_picture: view_picture.clone(),
             control_picture,
+            flip_pairs,
+            flip_ppd,
         });
         (view_picture, true)
     }
@@ -241,17 +334,27 @@ impl Renderer {
             let readback = meter.in_flight.remove(0);
             if readback.mapped.get() == Some(true) {
                 if let Ok(mapped) = readback.buffer.get_mapped_range(..) {
-                    let pictures = mapped
-                        .chunks_exact(row * height as usize)
-                        .take(readback.pictures)
-                        .map(|picture| {
-                            picture
-                                .chunks_exact(row)
-                                .flat_map(|line| &line[..4 * width as usize])
-                                .copied()
-                                .collect()
+                    let texels = |image: &[u8]| -> Vec<u8> {
+                        image
+                            .chunks_exact(row)
+                            .flat_map(|line| &line[..4 * width as usize])
+                            .copied()
+                            .collect()
+                    };
+                    let image =
+                        |i: usize| &mapped[i * row * height as usize..(i + 1) * row * height as usize];
+                    let flip = readback
+                        .flip_pairs
+                        .iter()
+                        .enumerate()
+                        .map(|(slot, &pair)| {
+                            let map = texels(image(PICTURES + slot));
+                            let sum: f64 =
+                                map.chunks_exact(4).map(|t| f64::from(unpack_error(t[0], t[1]))).sum();
+                            (pair, (sum / (map.len() / 4).max(1) as f64) as f32)
                         })
                         .collect();
+                    let pictures = (0..readback.pictures).map(|i| texels(image(i))).collect();
                     let (view_picture, control_picture) =
                         (readback.view_picture.clone(), readback.control_picture.clone());
                     out.push(MeterFrame {
@@ -261,6 +364,8 @@ impl Renderer {
                         pictures,
                         view_picture,
                         control_picture,
+                        flip,
+                        flip_ppd: readback.flip_ppd,
                     });
                 }
                 readback.buffer.unmap();

@@ -16,6 +16,8 @@ use wgpu::util::DeviceExt;
 
 mod crowd;
 mod difference;
+mod flip;
+pub use flip::MAX_PPD;
 mod frame_targets;
 mod joints;
 mod meter;
@@ -172,6 +174,8 @@ pub struct Renderer {
     meter: std::cell::RefCell<Option<meter::MeterGpu>>,
     /// The difference overlay's pipeline.
     difference: Option<difference::DifferenceGpu>,
+    /// LDR-FLIP's pipelines, where float targets can be rendered into.
+    flip: Option<flip::FlipGpu>,
     pipelines: Pipelines,
     /// Kept for the pipelines made later (the crowd's).
     layouts: BindLayouts,
@@ -312,6 +316,11 @@ impl Renderer {
         let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
         let info = adapter.get_info();
         let difference = Some(difference::DifferenceGpu::new(&device, color_format, sample_count));
+        let float_targets = adapter
+            .get_texture_format_features(wgpu::TextureFormat::Rgba32Float)
+            .allowed_usages
+            .contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let flip = flip::FlipGpu::new(&device, float_targets);
         Ok(Self {
             device,
             queue,
@@ -337,6 +346,7 @@ impl Renderer {
             morph_pairs: Default::default(),
             meter: Default::default(),
             difference,
+            flip,
             pipelines,
             layouts,
             crowd: None,
