@@ -50,6 +50,46 @@ export interface MeterHistory {
   samples: (number | boolean)[][];
   /** `[silhouette %, shading, … per view]`: each view's step (against its control) in the same frames. */
   steps: number[][];
+  /** `[FLIP against full detail, FLIP of the step, … per view]` in the same frames, 0..1. */
+  flip: number[][];
+}
+
+/** `replay()`: every view's meter pictures across the last transition, cropped to the region of
+ * its largest change, and each view's per-frame curves from the frame before it to the frame after. */
+export interface Replay {
+  methods: Method[];
+  /** `[from, to]` levels. */
+  levels: [number, number];
+  /** The meter picture's `[width, height]`, pixels. */
+  size: [number, number];
+  /** The crop, `[x, y, width, height]` in meter pixels. */
+  region: [number, number, number, number];
+  /** The frame before the transition, evenly spread frames of it and the frame after; each view's crop as RGBA8. */
+  frames: { frame: number; time: number; t: number; views: Uint8Array[] }[];
+  /** Per measured frame; the per-view arrays hold one value per frame. Silhouette in % of the
+   * view, shading in mean |ΔRGB|, FLIP 0..1; `step…` against the view's control. */
+  curves: {
+    frame: number[];
+    time: number[];
+    running: boolean[];
+    silhouette: number[][];
+    shading: number[][];
+    flip: number[][];
+    stepSilhouette: number[][];
+    stepFlip: number[][];
+  };
+}
+
+/** LDR-FLIP in the live meter (`state().meter.flip`), null where the GPU cannot compute it. */
+export interface MeterFlip {
+  /** Pixels per degree of the meter's picture when the view is seen at FLIP's standard 67. */
+  ppd: number;
+  /** Each view's mean FLIP error against full detail in the last measured frame, 0..1. */
+  views: number[];
+  /** The last transition's FLIP pop per method (largest mean error of a frame against its control). */
+  pop: { popping: number | null; alpha: number | null; geomorph: number | null };
+  /** The same without the control: the largest frame-to-frame change of the error against full detail. */
+  uncontrolled: { popping: number | null; alpha: number | null; geomorph: number | null };
 }
 
 /** A setting the two presets differ in: its `setState` key, current value and both presets' values. */
@@ -89,6 +129,7 @@ export interface MeterState {
   alpha: MethodPop | null;
   geomorph: MethodPop | null;
   changes: MeterChange[];
+  flip: MeterFlip | null;
 }
 
 /** What the crowd shows this frame (`mode: 'crowd'`). */
@@ -279,6 +320,10 @@ export class ClodViewerElement extends HTMLElement {
   state(): ViewerState;
   meter(): { popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null };
   meterHistory(): MeterHistory;
+  /** The last transition's replay, or null before one completed. */
+  replay(): Replay | null;
+  /** The replay drawn as one PNG (see `drawReplay`), or null before a transition. */
+  replayPng(): Promise<Blob | null>;
   measurePopSpike(options?: { level?: number; frames?: number; sweep?: number; at?: number }): Promise<PopSpike>;
   /** Draws one frame at `nowMs` (with `manual-frames`) and returns the state. */
   renderFrame(nowMs: number): ViewerState;
@@ -314,6 +359,11 @@ export function webgpuWorks(): Promise<boolean>;
 export function resolverFor(resources: Map<string, Uint8Array> | undefined): (name: string) => Uint8Array | null;
 /** `pop blend morph` (one to three, any of `pop|popping`, `blend|alpha`, `morph|geomorph`) as methods. */
 export function parseModes(text: string): Method[];
+/** Colours of the methods in the page's charts and the replay. */
+export const METHOD_COLORS: Record<Method, string>;
+/** Draws `replay` on `canvas` (resized to fit): a row per view, its crops magnified `zoom` times
+ * (default 2) and its per-frame difference curves under them. */
+export function drawReplay(canvas: HTMLCanvasElement, replay: Replay, options?: { zoom?: number }): void;
 
 declare global {
   interface HTMLElementTagNameMap {

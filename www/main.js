@@ -41,7 +41,7 @@ if (params.has('t') || testMode) viewer.removeAttribute('autoplay');
 if (params.get('model')) viewer.setAttribute('src', params.get('model'));
 if (params.get('crowd')) { viewer.setAttribute('mode', 'crowd'); viewer.setAttribute('count', params.get('crowd')); }
 // The element starts loading when it is defined: only now, with the URL's attributes set.
-await import('./clod-viewer.js');
+const { METHOD_COLORS, drawReplay } = await import('./clod-viewer.js');
 
 viewer.addEventListener('progress', (e) => {
   const { phase, fraction } = e.detail;
@@ -237,6 +237,16 @@ function wireControls() {
   $('continuous-on').addEventListener('change', continuous);
   $('continuous').addEventListener('input', continuous);
   $('preset-toggle').addEventListener('click', (e) => set({ preset: e.target.dataset.to }));
+  viewer.addEventListener('meter', showReplay);
+  $('replay-png').addEventListener('click', async () => {
+    const blob = await viewer.replayPng();
+    if (!blob) return;
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `clod-viewer-replay-${new Date().toISOString().slice(0, 19).replaceAll(':', '-')}.png`;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+  });
   $('file').addEventListener('change', (e) => openFiles([...e.target.files]));
   $('screenshot').addEventListener('click', screenshot);
   $('measure').addEventListener('click', measureSpike);
@@ -324,6 +334,11 @@ function showStats() {
   }
   if (s.warnings.length) rows.push(['Warnings', s.warnings.join('; ')]);
   rows.push(['Meter', s.meter.on ? `measured at ${s.meter.size.join(' × ')} px per view, ${s.meter.transitions} transitions` : 'off']);
+  if (s.meter.on) {
+    rows.push(['FLIP', s.meter.flip
+      ? `LDR-FLIP against full detail, mean per view at ${s.meter.flip.ppd.toFixed(1)} px per degree (the meter's picture when the view is seen at 67 px per degree): ${s.views.map((v, i) => `${v.method} ${(s.meter.flip.views[i] ?? 0).toFixed(4)}`).join(' · ')}`
+      : 'not measured (this GPU cannot render into float targets, or nothing to compare yet)']);
+  }
   drawMeterChart();
   showMeterTable(s.meter);
   stats.replaceChildren(...rows.flatMap(([k, v]) => [
@@ -383,7 +398,13 @@ async function measureSpike() {
 
 // --- the live transition meter ---------------------------------------------------------------------
 
-const METHOD_COLORS = { popping: '#ff7a5c', alpha: '#f5d547', geomorph: '#5cd0ff' };
+// The film strip of the last transition, drawn again when the meter completes another.
+function showReplay() {
+  const replay = viewer.replay();
+  $('replay').hidden = !replay;
+  if (!replay) return;
+  drawReplay($('replay-strip'), replay);
+}
 
 // Draws the meter's last ten seconds: each view's silhouette difference from the reference (% of
 // pixels), one line per method, with a tick where each transition starts.
@@ -416,7 +437,8 @@ function drawMeterChart() {
 function showMeterTable(meter) {
   const rows = ['popping', 'alpha', 'geomorph'].map((method) => {
     const m = meter[method];
-    const cells = m ? [m.silhouette.toFixed(2), m.shading.toFixed(2)] : ['–', '–'];
+    const flip = meter.flip?.pop?.[method];
+    const cells = m ? [m.silhouette.toFixed(3), m.shading.toFixed(2), flip == null ? '–' : flip.toFixed(4), m.uncontrolled.silhouette.toFixed(3)] : ['–', '–', '–', '–'];
     const tr = document.createElement('tr');
     tr.dataset.method = method;
     tr.append(Object.assign(document.createElement('th'), { textContent: method, style: `color: ${METHOD_COLORS[method]}` }),
@@ -473,6 +495,11 @@ function exposeTestHook() {
     state: () => viewer.state(),
     measurePopSpike: (options) => viewer.measurePopSpike(options),
     flipImages: (reference, test, width, height, ppd) => viewer.flipImages(reference, test, width, height, ppd),
+    replay: () => viewer.replay(),
+    replayPng: async () => {
+      const blob = await viewer.replayPng();
+      return blob && { size: blob.size, type: blob.type, head: [...new Uint8Array(await blob.slice(0, 8).arrayBuffer())] };
+    },
     load: (name, bytes) => viewer.load({ name, bytes, resources: null }),
   };
 }

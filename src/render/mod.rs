@@ -20,6 +20,7 @@ pub mod mipmap;
 pub mod overlay;
 pub mod plan;
 pub mod pop_spike;
+pub mod replay;
 pub mod schedule;
 pub mod uniforms;
 pub mod viewer;

@@ -15,6 +15,7 @@
 //! last state read, and the other asynchronous calls wait their turn.
 
 mod pop_spike;
+mod replay;
 mod settings;
 mod state;
 
@@ -36,6 +37,7 @@ use crate::render::lod_source::LodSource;
 use crate::render::meter::{frame_difference, FrameDifference, MeterSample, TransitionMeter};
 use crate::render::overlay::bone_segments;
 use crate::render::plan::ViewPlan;
+use crate::render::replay::ReplayRecorder;
 use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
 use crate::render::viewer::settings::Update;
@@ -81,6 +83,8 @@ struct Inner {
     meter_controls: Option<[ViewPlan; 3]>,
     /// Pixels per degree of the meter's last FLIP (`None` until one was computed).
     flip_ppd: Option<f32>,
+    /// The last transition's film strip (see [`crate::render::replay`]).
+    replay: ReplayRecorder,
     skin: Vec<Mat4>,
     /// Morph-target weights of the same pose, one per target.
     morph_weights: Vec<f32>,
@@ -218,6 +222,7 @@ impl Viewer {
             meter_pending: Default::default(),
             meter_controls: None,
             flip_ppd: None,
+            replay: ReplayRecorder::default(),
             skin: Vec::new(),
             morph_weights: Vec::new(),
             bones: Vec::new(),
@@ -697,7 +702,9 @@ impl Inner {
             if frame.flip_ppd.is_some() {
                 self.flip_ppd = frame.flip_ppd;
             }
-            self.meter.push(MeterSample { frame: tag, time, transition, views, steps });
+            let sample = MeterSample { frame: tag, time, transition, views, steps };
+            self.record_replay(&frame, &sample);
+            self.meter.push(sample);
         }
     }
 

@@ -6,7 +6,8 @@
 // - Walking, tolerance 6 px, 2 s transitions, the camera jumping across three switches (L4 → L5,
 //   L5 → L6, L6 → L5), 10 frames per second: the median over the three transitions of alpha's and
 //   geomorph's silhouette pops ≤ 20 % of popping's; on WebGPU the middle transition again at 100
-//   frames per second (the clock slowed 10×) ranks the methods the same.
+//   frames per second (the clock slowed 10×) ranks the methods the same. The replay of the last
+//   transition has frames for every view, a curve point for every frame, and exports a PNG.
 // WebGPU and WebGL2.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -85,6 +86,26 @@ for (const backend of ['webgpu', 'webgl2']) {
     assert.ok(med.popping > 0.01, `popping pops: ${med.popping} %`);
     assert.ok(med.alpha <= 0.2 * med.popping, `alpha ${med.alpha} vs popping ${med.popping}`);
     assert.ok(med.geomorph <= 0.2 * med.popping, `geomorph ${med.geomorph} vs popping ${med.popping}`);
+    // The replay of the last transition (L6 → L5): frames for every view, curves for every frame,
+    // and one PNG.
+    const replay = await page.evaluate(async () => {
+      const r = window.__clod.replay();
+      const png = await window.__clod.replayPng();
+      return r && {
+        methods: r.methods, levels: r.levels, region: r.region, curve: r.curves.frame.length,
+        frames: r.frames.map((f) => f.views.map((v) => v.length)), lengths: r.curves.silhouette.map((c) => c.length), png,
+      };
+    });
+    console.log(`${backend} replay: levels ${replay.levels.join(' → ')}, ${replay.frames.length} frames of ${replay.region[2]} × ${replay.region[3]} px at [${replay.region.slice(0, 2)}], ${replay.curve} curve points, PNG ${replay.png.size} bytes`);
+    assert.deepEqual(replay.methods, METHODS);
+    assert.deepEqual(replay.levels, [k, k - 1]);
+    assert.ok(replay.frames.length >= 6, `${replay.frames.length} frames`);
+    const bytes = 4 * replay.region[2] * replay.region[3];
+    assert.ok(replay.frames.every((views) => views.length === 3 && views.every((n) => n === bytes)), JSON.stringify(replay.frames));
+    // 2 s at 10 frames a second, the frame before and the frame after.
+    assert.ok(replay.curve >= 21, `${replay.curve} curve points`);
+    assert.deepEqual(replay.lengths, [replay.curve, replay.curve, replay.curve]);
+    assert.deepEqual(replay.png.head, [137, 80, 78, 71, 13, 10, 26, 10]);
     if (backend !== 'webgpu') return;
     // The middle transition again at 100 frames per second: the same order of the three methods.
     await transition(k, k - 1, 100);
