@@ -34,8 +34,9 @@ if [ -z "$url" ]; then
 fi
 # The suites the test command runs: views (with the continuous LOD, overlay and camera tests),
 # fairness, pop-spike (measured by the viewer itself, on a small page), webgl2, the page for readers
-# (files, URL state, progress, long tasks), embedding (<clod-viewer>, embed.html), the crowd, morph targets
-# and the element's error events. frame-times only
+# (files, URL state, progress, long tasks), embedding (<clod-viewer>, embed.html), the crowd, morph targets,
+# the element's error events, the default page's first impression and FLIP against its reference's
+# fixtures. frame-times only
 # reports numbers and takes minutes on SwiftShader: `BROWSER_TESTS=all` runs every file.
 if [ "${BROWSER_TESTS:-}" = all ]; then
   files=(tests/browser/)
@@ -43,7 +44,7 @@ else
   files=(tests/browser/views.test.mjs tests/browser/fairness.test.mjs tests/browser/pop-spike.test.mjs
     tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/sync.test.mjs
     tests/browser/meter.test.mjs tests/browser/crowd.test.mjs tests/browser/morph.test.mjs
-    tests/browser/errors.test.mjs)
+    tests/browser/errors.test.mjs tests/browser/first-impression.test.mjs tests/browser/flip.test.mjs)
 fi
 echo "== browser tests against $url: ${files[*]}"
 # One file at a time: SwiftShader already uses every core.

@@ -253,7 +253,7 @@ mod tests {
         for n in 2..42 {
             let step =
                 (n == 5).then(|| (0.3, change(&picture(None), &picture(Some((8, 5))), 12, 9, 3).unwrap()));
-            let small = (n != 5).then(|| (0.01, Change { region: [0, 0, 3, 3], weight: 0.1 }));
+            let small = (n != 5).then_some((0.01, Change { region: [0, 0, 3, 3], weight: 0.1 }));
             assert!(!r.push(frame(n, run((n - 2) as f32 / 40.0), Some((8, 5))), 12, 9, step.or(small)));
         }
         assert!(r.push(frame(42, Transition::at(3), Some((8, 5))), 12, 9, None));

@@ -163,9 +163,7 @@ mod tests {
 
     #[test]
     fn switching_presets_changes_only_their_settings_and_back() {
-        let mut s = Settings::default();
-        s.speed = 0.5;
-        s.yaw_degrees = 12.0;
+        let mut s = Settings { speed: 0.5, yaw_degrees: 12.0, ..Default::default() };
         let before = s.clone();
         Preset::Demonstration.update().apply(&mut s);
         assert_eq!(Preset::of(&s), Some(Preset::Demonstration));
