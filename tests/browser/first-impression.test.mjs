@@ -47,7 +47,8 @@ for (const backend of ['webgpu', 'webgl2']) {
       return s.meter.transitions >= 1 && s.meter;
     }, null, { timeout: 60_000, polling: 100 }).then((h) => h.jsonValue());
     const m = (x) => `${x.silhouette.toFixed(3)} % (uncontrolled ${x.uncontrolled.silhouette.toFixed(3)} %), shading ${x.shading.toFixed(3)}`;
-    console.log(`${backend}: first transition's pops: popping ${m(meter.popping)}; alpha ${m(meter.alpha)}; geomorph ${m(meter.geomorph)}`);
+    const flip = meter.flip ? `; FLIP at ${meter.flip.ppd.toFixed(1)} ppd: pops ${JSON.stringify(meter.flip.pop)}, without the control ${JSON.stringify(meter.flip.uncontrolled)}, views against full detail ${meter.flip.views.map((v) => v.toFixed(4)).join(' ')}` : '; no FLIP';
+    console.log(`${backend}: first transition's pops: popping ${m(meter.popping)}; alpha ${m(meter.alpha)}; geomorph ${m(meter.geomorph)}${flip}`);
     assert.ok(meter.popping.silhouette >= 0.25, `popping's silhouette pop ${meter.popping.silhouette} % ≥ 0.25 %`);
     // The page says what is exaggerated, next to the realistic values.
     const note = await page.locator('#preset-text').textContent();
