@@ -71,6 +71,22 @@ pub fn frame_difference(reference: &[u8], view: &[u8]) -> FrameDifference {
     }
 }
 
+/// The pairs of pictures `(reference, test)` FLIP compares in a measured frame, each once, given
+/// the picture each view drew and the picture of its control (picture 0 is the full-detail
+/// reference; views and controls with equal plans share a picture): every view against the
+/// reference and against its control, where they are different pictures.
+pub fn flip_pairs(view_picture: &[usize], control_picture: &[usize]) -> Vec<(usize, usize)> {
+    let mut pairs = Vec::new();
+    for (&v, &c) in view_picture.iter().zip(control_picture) {
+        for pair in [(0, v), (c, v)] {
+            if pair.0 != pair.1 && !pairs.contains(&pair) {
+                pairs.push(pair);
+            }
+        }
+    }
+    pairs
+}
+
 /// One measured frame: the transition every view showed and each view's difference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeterSample {
@@ -307,6 +323,17 @@ mod tests {
         assert_eq!(pops[1].silhouette, 0.0);
         assert!(pops[1].uncontrolled.silhouette >= 0.02, "{:?}", pops[1]);
         assert_eq!(pops[0].silhouette, 0.03);
+    }
+
+    #[test]
+    fn flip_compares_each_distinct_pair_once() {
+        // At rest on level 0: every view is the reference and its own control: nothing to compare.
+        assert!(flip_pairs(&[0, 0, 0], &[0, 0, 0]).is_empty());
+        // At rest on a coarse level: one shared picture against the reference.
+        assert_eq!(flip_pairs(&[1, 1, 1], &[1, 1, 1]), [(0, 1)]);
+        // Mid-transition: popping (1) held, the blend (2) and the geomorph (3) against their
+        // controls (4, 5) and the reference.
+        assert_eq!(flip_pairs(&[1, 2, 3], &[1, 4, 5]), [(0, 1), (0, 2), (4, 2), (0, 3), (5, 3)]);
     }
 
     #[test]

@@ -9,6 +9,7 @@ use std::rc::Rc;
 
 use super::{flip, frame_targets, FrameInput, Renderer};
 use crate::render::flip::{unpack_error, DEFAULT_PPD};
+use crate::render::meter::flip_pairs;
 use crate::render::overlay::Overlay;
 use crate::render::plan::{plan_view, Method, ViewPlan};
 use crate::render::schedule::Transition;
@@ -63,24 +64,10 @@ pub struct MeterFrame {
     pub view_picture: Vec<usize>,
     pub control_picture: Vec<usize>,
     /// Mean LDR-FLIP error of each compared pair of pictures `(reference, test)` (see
-    /// [`flip_pairs`]), and the pixels per degree it was computed at; empty where the GPU has no
-    /// FLIP.
+    /// [`crate::render::meter::flip_pairs`]), and the pixels per degree it was computed at; empty
+    /// where the GPU has no FLIP.
     pub flip: Vec<((usize, usize), f32)>,
     pub flip_ppd: Option<f32>,
-}
-
-/// The pairs of pictures FLIP compares in a frame, each once: every view's picture against the
-/// reference (0) and against its control, where they are different pictures.
-pub fn flip_pairs(view_picture: &[usize], control_picture: &[usize]) -> Vec<(usize, usize)> {
-    let mut pairs = Vec::new();
-    for (&v, &c) in view_picture.iter().zip(control_picture) {
-        for pair in [(0, v), (c, v)] {
-            if pair.0 != pair.1 && !pairs.contains(&pair) {
-                pairs.push(pair);
-            }
-        }
-    }
-    pairs
 }
 
 struct Readback {
