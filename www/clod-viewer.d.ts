@@ -104,6 +104,8 @@ export interface PresetValue {
 /** `state().preset`: the preset the settings match (null once a control moved), and what it sets. */
 export interface PresetState {
   name: 'demonstration' | 'realistic' | null;
+  /** The LOD threshold in pixels of this view (the demonstration's is per 400 px of view height). */
+  tolerancePx: number;
   values: PresetValue[];
 }
 

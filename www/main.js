@@ -136,7 +136,9 @@ function showPreset(state) {
   const words = (which) => p.values.map((v) => PRESET_WORDS[v.key]?.(v[which]) ?? `${v.key} ${v[which]}`).join(', ');
   let text;
   if (p.name === 'demonstration') {
-    text = `Exaggerated for demonstration: ${p.values.map((v) => `${PRESET_WORDS[v.key]?.(v.demonstration)} (realistic: ${PRESET_WORDS[v.key]?.(v.realistic)})`).join(', ')}, ` +
+    // The demonstration's threshold scales with the view: say what it is in this one.
+    const shown = (v) => (v.key === 'tolerance' ? `a ${p.tolerancePx.toFixed(1)} px threshold (${v.demonstration} px per 400 px of view height)` : PRESET_WORDS[v.key]?.(v.demonstration));
+    text = `Exaggerated for demonstration: ${p.values.map((v) => `${shown(v)} (realistic: ${PRESET_WORDS[v.key]?.(v.realistic)})`).join(', ')}, ` +
       'and the difference from full detail tinted (magenta: outline, amber: shading). The views still differ only in the transition method.';
   } else if (p.name === 'realistic') {
     text = `Realistic settings: ${words('realistic')}. At these settings the level changes stay below a pixel: good LOD shows nothing.`;

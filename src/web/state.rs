@@ -246,7 +246,7 @@ impl Inner {
             s.morphs && !self.renderer.morphs_dropped(),
             json_str(if s.crowd { "crowd" } else { "single" }),
             self.crowd_json(),
-            preset_json(s),
+            preset_json(s, s.tolerance_for(m.layout.views[0].height as f32)),
             list(&self.errors),
             list(&self.warnings),
         )
@@ -271,9 +271,10 @@ impl Inner {
     }
 }
 
-/// `state().preset`: the preset the settings match (`null` after a control moved), and each
-/// setting the presets differ in with its current, demonstration and realistic values.
-fn preset_json(s: &crate::render::viewer::settings::Settings) -> String {
+/// `state().preset`: the preset the settings match (`null` after a control moved), the threshold
+/// in pixels of this view (`tolerancePx`), and each setting the presets differ in with its current,
+/// demonstration and realistic values.
+fn preset_json(s: &crate::render::viewer::settings::Settings, tolerance_px: f32) -> String {
     use crate::render::viewer::preset::{Preset, PRESET_VALUES};
     let values: Vec<String> = PRESET_VALUES
         .iter()
@@ -289,7 +290,7 @@ fn preset_json(s: &crate::render::viewer::settings::Settings) -> String {
         })
         .collect();
     let name = Preset::of(s).map_or("null".to_string(), |p| json_str(p.name()));
-    format!("{{\"name\":{},\"values\":[{}]}}", name, values.join(","))
+    format!("{{\"name\":{},\"tolerancePx\":{},\"values\":[{}]}}", name, num(tolerance_px), values.join(","))
 }
 
 pub(super) fn num(x: f32) -> String {

@@ -52,7 +52,7 @@ for (const backend of ['webgpu', 'webgl2']) {
     assert.ok(meter.popping.silhouette >= 0.25, `popping's silhouette pop ${meter.popping.silhouette} % ≥ 0.25 %`);
     // The page says what is exaggerated, next to the realistic values.
     const note = await page.locator('#preset-text').textContent();
-    assert.match(note, /Exaggerated for demonstration: a 2\.4 px threshold \(realistic: a 0\.5 px threshold\), magnified ×2 \(realistic: real size\)/);
+    assert.match(note, /Exaggerated for demonstration: a 2\.4 px threshold \(2\.4 px per 400 px of view height\) \(realistic: a 0\.5 px threshold\), magnified ×2 \(realistic: real size\)/);
     assert.match(await page.locator('clod-viewer .clod-label').first().textContent(), /magnified ×2/);
     assert.deepEqual(errors, []);
     // One control to the realistic settings and back, kept in the URL (once: the page's wiring is

@@ -180,7 +180,7 @@ impl ViewerModel {
     /// The switch distance of every level for the current view and tolerance (model units).
     pub fn switch_distances(&self) -> Vec<f32> {
         let view_height = self.layout.views[0].height.max(1) as f32;
-        schedule::switch_distances(&self.errors, view_height, FOVY, self.settings.tolerance_px)
+        schedule::switch_distances(&self.errors, view_height, FOVY, self.settings.tolerance_for(view_height))
     }
 
     /// Advances the clocks by `dt` seconds (clamped to [`MAX_STEP`]), moves the camera, steps the

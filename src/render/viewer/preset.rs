@@ -8,7 +8,8 @@
 //! grows with the square of the magnified error (`magnify × tolerance`): at 2 px and ×2 the first
 //! transition popped 0.22 % of the view, at 2.4 px and ×2 the switch to the coarsest level
 //! happens at 1.14 framing distances in a 400-px view (the character 1.76× its framed size) and
-//! pops about 0.35 %. So the demonstration allows 4.8× the error (2.4 px), enlarges the views 2×
+//! pops about 0.4 %. The demonstration's threshold is per 400 px of view height, so the same
+//! switches fall at the same distances in any window. So the demonstration allows 4.8× the error (2.4 px), enlarges the views 2×
 //! about the point looked at, slows the transitions 4× (2 s instead of 0.5 s) and runs the dolly
 //! twice as fast (8 s a sweep: on a software rasterizer drawing 3 frames a second, the first
 //! switch then comes 12 frames after the levels arrive rather than 23), with the difference
@@ -44,12 +45,17 @@ pub struct PresetValue {
 /// Overlay of the demonstration: the difference from full detail, tinted.
 const DEMONSTRATION_OVERLAY: Overlay = Overlay::Difference;
 
+/// The view height the demonstration's threshold is given for: it scales with the view, so the
+/// demonstration shows the same switches at the same distances in any window (in a 290-px view a
+/// fixed 2.4 px put every switch inside the framing distance, and the dolly crossed none).
+pub const DEMONSTRATION_HEIGHT: f32 = 400.0;
+
 /// The numeric settings the presets differ in, in the order the page lists them. The overlay
 /// (difference in the demonstration, none in the realistic preset) comes on top.
 pub const PRESET_VALUES: [PresetValue; 4] = [
     PresetValue {
         key: "tolerance",
-        label: "screen-space error allowed before a coarser level is used (px)",
+        label: "screen-space error allowed before a coarser level is used (px; the demonstration's per 400 px of view height)",
         demonstration: 2.4,
         realistic: 0.5,
     },
@@ -128,6 +134,10 @@ impl Preset {
             }
         }
         s.overlay = self.overlay();
+        s.tolerance_height = match self {
+            Preset::Demonstration => Some(DEMONSTRATION_HEIGHT),
+            Preset::Realistic => None,
+        };
     }
 
     /// The preset whose every setting `s` has, if any (a reader who moved a control is on
@@ -168,6 +178,7 @@ mod tests {
         Preset::Demonstration.update().apply(&mut s);
         assert_eq!(Preset::of(&s), Some(Preset::Demonstration));
         assert_eq!((s.tolerance_px, s.magnify, s.transition_speed), (2.4, 2.0, 0.25));
+        assert_eq!((s.tolerance_for(400.0), s.tolerance_for(800.0)), (2.4, 4.8), "per 400 px of view");
         assert_eq!(s.overlay, Overlay::Difference);
         assert_eq!((s.speed, s.yaw_degrees), (0.5, 12.0), "the rest is the reader's");
         Preset::Realistic.update().apply(&mut s);
@@ -176,6 +187,7 @@ mod tests {
         Preset::Demonstration.update().apply(&mut s);
         Update { tolerance: Some(3.0), ..Default::default() }.apply(&mut s);
         assert_eq!(Preset::of(&s), None);
+        assert_eq!(s.tolerance_for(800.0), 3.0, "a threshold set in pixels is pixels");
     }
 
     #[test]

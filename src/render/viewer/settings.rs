@@ -33,6 +33,10 @@ pub struct Settings {
     /// Shift of the point looked at along the view's right and up, in framing distances.
     pub pan: [f32; 2],
     pub tolerance_px: f32,
+    /// When set, `tolerance_px` is per this many pixels of view height: the threshold scales with
+    /// the view, so the switches fall at the same distances in any window (the demonstration,
+    /// see [`super::preset`]). `None`: pixels, whatever the view.
+    pub tolerance_height: Option<f32>,
     pub hysteresis: f32,
     /// Transitions follow the distance (morph zones) rather than time.
     pub by_distance: bool,
@@ -86,6 +90,7 @@ impl Default for Settings {
             // the built-in character needs its finest levels only closer than the framing
             // distance; at 0.5 px its last three switches fall inside the dolly's sweep.
             tolerance_px: 0.5,
+            tolerance_height: None,
             // 10 %: a camera hovering at a switch distance does not flicker between levels.
             hysteresis: 0.1,
             by_distance: false,
@@ -108,6 +113,14 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// The threshold in pixels of a view `view_height` pixels tall (see `tolerance_height`).
+    pub fn tolerance_for(&self, view_height: f32) -> f32 {
+        match self.tolerance_height {
+            Some(reference) if reference > 0.0 => self.tolerance_px * view_height / reference,
+            _ => self.tolerance_px,
+        }
+    }
+
     /// How the schedule drives transitions.
     pub fn transition_mode(&self) -> TransitionMode {
         if self.by_distance {
@@ -188,7 +201,11 @@ impl Update {
         set!(yaw_degrees, self.yaw);
         set!(pitch_degrees, self.pitch);
         set!(pan, self.pan);
-        set!(tolerance_px, self.tolerance);
+        if let Some(tolerance) = self.tolerance {
+            // A threshold given in pixels is pixels, whatever the view.
+            s.tolerance_px = tolerance;
+            s.tolerance_height = None;
+        }
         set!(hysteresis, self.hysteresis);
         set!(overlay, self.overlay);
         set!(by_distance, self.by_distance);

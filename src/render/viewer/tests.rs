@@ -202,3 +202,21 @@ fn the_dolly_sweeps_from_the_start_when_the_levels_arrive() {
     m.set_levels(ERRORS.to_vec());
     assert_eq!((m.dolly_time, m.distance), (0.0, m.framing));
 }
+
+#[test]
+fn the_demonstrations_switches_do_not_depend_on_the_window() {
+    let demonstration = Update { preset: Some(super::preset::Preset::Demonstration), ..Default::default() };
+    let switches = |width: u32, height: u32, update: &Update| {
+        let mut m = ViewerModel::new((Vec3::ZERO, 1.0), ERRORS.to_vec(), width, height);
+        m.apply(update);
+        m.switch_distances().iter().map(|d| d / m.framing).collect::<Vec<f32>>()
+    };
+    let (small, large) = (switches(900, 300, &demonstration), switches(2700, 900, &demonstration));
+    for (a, b) in small.iter().zip(&large) {
+        // Within 1 %: the gaps between views make their shapes differ slightly.
+        assert!((a - b).abs() <= 0.01 * b.max(0.1), "{small:?} vs {large:?}");
+    }
+    // In pixels (the realistic preset), a larger view puts them farther.
+    let realistic = Update::default();
+    assert!(switches(2700, 900, &realistic)[4] > 2.9 * switches(900, 300, &realistic)[4]);
+}
