@@ -9,6 +9,8 @@
 //! `--passes` builds with batched collapse passes instead of the strict one-at-a-time order.
 //! `--bind` simplifies in the bind pose alone instead of the default multi-pose, to see what the
 //! other poses cost.
+//! `--without RULE` (repeatable) leaves out one of the simplifier's special rules
+//! (`src/simplify/rules.rs`), to see what it costs.
 //! `--counts` adds the collapse engine's counts of one build (`"counts": {...}`, see
 //! `simplify::PricingStats`): collapses, exact pricings, and edges queued under a bound.
 
@@ -18,6 +20,7 @@ use std::time::Instant;
 use clod_viewer::clod::{self, ClodOptions, SimplificationPose};
 use clod_viewer::import;
 use clod_viewer::simplify::pricing_stats;
+use clod_viewer::simplify::rules::Rules;
 use clod_viewer::Schedule;
 
 const FRACTIONS: [f64; 5] = [0.5, 0.25, 0.1, 0.05, 0.01];
@@ -29,9 +32,25 @@ fn main() {
     let counts = args.iter().any(|a| a == "--counts");
     let bind = args.iter().any(|a| a == "--bind");
     let schedule = if passes { Schedule::Passes } else { Schedule::Strict };
-    let files: Vec<String> = args.into_iter().filter(|a| !a.starts_with("--")).collect();
+    let mut rules = Rules::ALL;
+    let mut files = Vec::new();
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        if arg == "--without" {
+            let name = args.next().unwrap_or_default();
+            let Some(rule) = Rules::parse(&name) else {
+                eprintln!("unknown rule {name:?} (see src/simplify/rules.rs)");
+                std::process::exit(2);
+            };
+            rules = rules.without(rule);
+        } else if !arg.starts_with("--") {
+            files.push(arg);
+        }
+    }
     if files.is_empty() {
-        eprintln!("usage: clod_timing [--passes] [--counts] [--bind] FILE.glb|FILE.gltf...");
+        eprintln!(
+            "usage: clod_timing [--passes] [--counts] [--bind] [--without RULE]... FILE.glb|FILE.gltf..."
+        );
         std::process::exit(2);
     }
     for file in files {
@@ -44,7 +63,8 @@ fn main() {
         };
         let n = character.mesh.triangle_count();
         let levels = FRACTIONS.iter().map(|f| ((n as f64 * f).round() as usize).max(1)).collect();
-        let mut options = ClodOptions { level_triangles: Some(levels), schedule, ..ClodOptions::default() };
+        let mut options =
+            ClodOptions { level_triangles: Some(levels), schedule, rules, ..ClodOptions::default() };
         if bind {
             options.pose = SimplificationPose::Bind;
         }

@@ -46,7 +46,6 @@ fn main() {
         triangle_materials: &[],
         vertex_quadrics: None,
         other_poses: None,
-        rigid_triangles: &[],
     };
     for (name, attribute_weights, mode) in [
         ("full, 5 attributes", &weights[..], CollapseMode::Full),

@@ -6,7 +6,6 @@ mod common;
 use clod_viewer::clod::{self, shading::face_normal, ClodOptions, SimplificationPose};
 use clod_viewer::mesh::PrimitiveRange;
 use clod_viewer::render::lod_source::LodSource;
-use clod_viewer::simplify::{simplify, Rule, Rules, SimplifyInput, SimplifyOptions};
 use clod_viewer::skeleton::{Node, SkinJoint, Transform};
 use clod_viewer::{Character, Skeleton, SkinnedMesh};
 use glam::{Mat4, Vec3};
@@ -404,59 +403,4 @@ fn uvs_no_texture_samples_do_not_hold_the_levels() {
     assert!(coarsest > 250, "{coarsest}: only a few collapses at the grid's rim can keep every island");
     let stop = textured.stopped_short().expect("the textured grid stops short").to_string();
     assert!(stop.starts_with(&format!("the levels stop at {coarsest} of 288")), "{stop}");
-}
-
-/// The unit cube as the simplifier sees a flat-shaded one: 8 welded corners, 12 triangles wound
-/// outward, every normal zero (faceted, not priced), and every triangle rigid or none.
-fn faceted_cube_levels(rigid: &[bool], rules: Rules) -> Vec<Vec<Vec3>> {
-    let positions: Vec<Vec3> =
-        (0..8).map(|i| Vec3::new((i & 1) as f32, (i >> 1 & 1) as f32, (i >> 2 & 1) as f32)).collect();
-    let indices: Vec<u32> = vec![
-        0, 2, 3, 0, 3, 1, // z = 0
-        4, 5, 7, 4, 7, 6, // z = 1
-        0, 1, 5, 0, 5, 4, // y = 0
-        2, 6, 7, 2, 7, 3, // y = 1
-        0, 4, 6, 0, 6, 2, // x = 0
-        1, 3, 7, 1, 7, 5, // x = 1
-    ];
-    let attributes = vec![0.0; 3 * positions.len()];
-    let input = SimplifyInput {
-        positions: &positions,
-        attributes: &attributes,
-        attribute_weights: &[0.01; 3],
-        indices: &indices,
-        triangle_materials: &[],
-        vertex_quadrics: None,
-        other_poses: None,
-        rigid_triangles: rigid,
-    };
-    let options =
-        SimplifyOptions { normal_channel: Some(0), target_triangles: 6, rules, ..SimplifyOptions::default() };
-    let pm = simplify(&input, &options).expect("a valid cube");
-    assert!(pm.collapse_count() >= 2, "the cube simplifies: {} collapses", pm.collapse_count());
-    (1..=pm.collapse_count())
-        .map(|k| {
-            let mut cursor = pm.cursor();
-            cursor.set_collapses(k);
-            cursor.vertices().iter().map(|&v| pm.positions[v as usize]).collect()
-        })
-        .collect()
-}
-
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-#[cfg_attr(not(target_arch = "wasm32"), test)]
-fn a_rigid_faceted_box_keeps_its_corners_where_a_skinned_one_places_freely() {
-    let is_corner = |p: &Vec3| *p == p.round() && p.min_element() >= 0.0 && p.max_element() <= 1.0;
-    // Rigid: every collapse goes into a hard corner (three faces at right angles) and leaves it
-    // where it is, so every level is a subset of the cube's corners.
-    for (k, level) in faceted_cube_levels(&[true; 12], Rules::ALL).iter().enumerate() {
-        assert!(level.iter().all(is_corner), "level {}: {level:?}", k + 1);
-    }
-    // Without rigid triangles the merged planes place the first vertex at the minimiser, the
-    // middle of the collapsed edge (its two end faces pull equally): not a corner.
-    let free = faceted_cube_levels(&[], Rules::ALL);
-    assert!(!free[0].iter().all(is_corner), "free placement: {:?}", free[0]);
-    // The rule is what keeps them: without it the rigid box is placed freely too.
-    let unruled = faceted_cube_levels(&[true; 12], Rules::ALL.without(Rule::HardCorners));
-    assert_eq!(unruled[0], free[0], "without the rule");
 }

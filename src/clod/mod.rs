@@ -250,7 +250,6 @@ pub fn build(
         other_poses: multi_pose
             .as_ref()
             .map(|m| OtherPoses { count: m.pose_count, positions: &m.posed_positions }),
-        rigid_triangles: multi_pose.as_ref().map_or(&[], |m| m.rigid_triangles.as_slice()),
     };
     let max_distance = options.max_relative_error * crate::metrics::bounds_diagonal(&input.positions);
     let simplify_options = SimplifyOptions {

@@ -64,15 +64,11 @@ pub const MAX_DISTANCE_FRAMES: usize = 4;
 
 /// What the multi-pose frames give the simplifier: every vertex's summed quadric, its positions
 /// in up to [`MAX_DISTANCE_FRAMES`] of the frames (vertex after vertex, `pose_count` each; see
-/// [`crate::simplify::OtherPoses`]), and which triangles move rigidly
-/// ([`crate::simplify::SimplifyInput::rigid_triangles`]).
+/// [`crate::simplify::OtherPoses`]).
 pub(crate) struct MultiPoseInput {
     pub quadrics: Vec<Quadric>,
     pub pose_count: usize,
     pub posed_positions: Vec<Vec3>,
-    /// Per triangle: whether it moves rigidly with the bind pose in every frame
-    /// ([`rigid_triangles`], morphing corners excluded); empty when none can.
-    pub rigid_triangles: Vec<bool>,
 }
 
 /// The per-vertex blended skin matrices (`posed_from_bind`) of one pose.
@@ -324,7 +320,7 @@ pub(crate) fn multi_pose_quadrics(
         }
     }
     frame_quadrics.finish(&mut quadrics);
-    Some(MultiPoseInput { quadrics, pose_count, posed_positions, rigid_triangles: rigid })
+    Some(MultiPoseInput { quadrics, pose_count, posed_positions })
 }
 
 #[cfg(test)]

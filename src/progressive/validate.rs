@@ -206,7 +206,6 @@ mod tests {
             triangle_materials: &[],
             vertex_quadrics: None,
             other_poses: None,
-            rigid_triangles: &[],
         };
         simplify(&input, &SimplifyOptions { target_triangles: 4, ..SimplifyOptions::default() }).unwrap()
     }

@@ -61,12 +61,6 @@ pub struct SimplifyInput<'a> {
     /// If given, the input in other poses (animation frames), where
     /// [`SimplifyOptions::max_distance`] holds too; see [`OtherPoses`].
     pub other_poses: Option<OtherPoses<'a>>,
-    /// One flag per triangle (or empty for none): whether the triangle keeps its shape in every
-    /// pose the quadrics stand for, moving rigidly with one joint. A faceted vertex (zero normal
-    /// in [`SimplifyOptions::normal_channel`]) all of whose triangles are rigid and two of which
-    /// meet at a right angle or sharper is a hard corner: a neighbour collapsing into it leaves
-    /// it where it is (see `collapse/plan.rs`).
-    pub rigid_triangles: &'a [bool],
 }
 
 /// The input mesh in `count` other poses (animation frames, say), where the distance floor
@@ -195,8 +189,6 @@ pub enum SimplifyError {
     BadAttributeWeight(usize),
     #[error("{found} triangle materials given for {triangles} triangles")]
     MaterialCount { found: usize, triangles: usize },
-    #[error("{found} rigid-triangle flags given for {triangles} triangles")]
-    RigidCount { found: usize, triangles: usize },
     #[error("{found} vertex quadrics given for {vertices} vertices")]
     QuadricCount { found: usize, vertices: usize },
     #[error("vertex quadric {0} has a coefficient that is not finite")]
@@ -279,9 +271,6 @@ fn validate(input: &SimplifyInput, options: &SimplifyOptions) -> Result<(), Simp
     }
     if !input.triangle_materials.is_empty() && input.triangle_materials.len() != triangles {
         return Err(SimplifyError::MaterialCount { found: input.triangle_materials.len(), triangles });
-    }
-    if !input.rigid_triangles.is_empty() && input.rigid_triangles.len() != triangles {
-        return Err(SimplifyError::RigidCount { found: input.rigid_triangles.len(), triangles });
     }
     if let Some(quadrics) = input.vertex_quadrics {
         if quadrics.len() != n {

@@ -22,9 +22,6 @@ pub enum Rule {
     /// An interior vertex onto a uv or colour seam that is no outline (no border, material line or
     /// crease) merges at the minimiser: the seam moves with its surface.
     SeamsMoveWithSurface,
-    /// A corner or edge of a rigid flat-shaded part stays where it is when a faceted neighbour
-    /// collapses into it.
-    HardCorners,
     /// A closed part that vanishes whole is priced by its distance to the other parts.
     ClosedPartsByClearance,
     /// An open part's last triangle goes only once the part lies within the distance the level
@@ -50,7 +47,7 @@ pub struct RuleInfo {
 }
 
 /// Every rule, in the order the engine meets them (ordering, placement, vanishing parts, floors).
-pub const RULES: [RuleInfo; 8] = [
+pub const RULES: [RuleInfo; 7] = [
     RuleInfo {
         rule: Rule::SmallPairs,
         name: "small-pairs",
@@ -74,15 +71,6 @@ pub const RULES: [RuleInfo; 8] = [
             "a uv or colour seam inside a smooth surface pins every vertex collapsed onto it, so the seam's \
                  neighbourhood keeps the input's shape and the rest pays",
         test: "tests/simplify.rs: a_seam_moves_with_its_surface_and_a_crease_stays",
-    },
-    RuleInfo {
-        rule: Rule::HardCorners,
-        name: "hard-corners",
-        reason:
-            "the merged planes of a box's faces have their minimiser inside the box, so free placement cuts \
-                 a rigid hard-surface part's volume",
-        test:
-            "tests/flat_shading.rs: a_rigid_faceted_box_keeps_its_corners_where_a_skinned_one_places_freely",
     },
     RuleInfo {
         rule: Rule::ClosedPartsByClearance,
@@ -174,10 +162,10 @@ mod tests {
 
     #[test]
     fn a_set_leaves_out_and_takes_back_one_rule() {
-        let without = Rules::ALL.without(Rule::HardCorners);
-        assert!(!without.has(Rule::HardCorners));
-        assert!(RULES.iter().filter(|i| i.rule != Rule::HardCorners).all(|i| without.has(i.rule)));
-        assert_eq!(without.with(Rule::HardCorners), Rules::ALL);
+        let without = Rules::ALL.without(Rule::DistanceFloorInPoses);
+        assert!(!without.has(Rule::DistanceFloorInPoses));
+        assert!(RULES.iter().filter(|i| i.rule != Rule::DistanceFloorInPoses).all(|i| without.has(i.rule)));
+        assert_eq!(without.with(Rule::DistanceFloorInPoses), Rules::ALL);
         assert!(RULES.iter().all(|i| !Rules::NONE.has(i.rule)));
     }
 }

@@ -29,7 +29,6 @@ impl Mesh {
             triangle_materials: &self.materials,
             vertex_quadrics: None,
             other_poses: None,
-            rigid_triangles: &[],
         }
     }
 

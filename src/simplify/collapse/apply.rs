@@ -219,13 +219,10 @@ impl Engine<'_> {
 }
 
 impl Mesh<'_> {
-    /// Class `v` takes class `u`'s place at `p`: a hard corner that moves is no longer one, a
-    /// junction's survivor stays a junction, outlines are inherited; `u` dies, merged into `v`,
+    /// Class `v` takes class `u`'s place at `p`: a junction's survivor stays a junction, outlines are inherited; `u` dies, merged into `v`,
     /// and both versions move on (every candidate of either is stale).
     fn merge_classes(&mut self, u: u32, v: u32, p: DVec3) {
         let (ui, vi) = (u as usize, v as usize);
-        // A hard corner that moves is no longer one.
-        self.hard_corner[vi] &= self.position[vi] == p;
         self.position[vi] = p;
         // The survivor of a junction inherits its line ends or meeting lines: it stays put from
         // now on and collapses only under the junction rules (a stale interior or line kind

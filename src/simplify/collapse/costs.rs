@@ -17,7 +17,6 @@ use super::super::quadric::Quadric;
 use super::super::topology::{ConstraintSide, PositionClasses};
 use super::super::vertex_quadrics::{attribute_quadrics, geometric_quadrics};
 use super::super::{CollapseMode, Rule, Rules, SimplifyInput, SimplifyOptions};
-use super::mesh::all_faceted;
 use glam::DVec3;
 
 /// A pair smaller than this fraction of the mean pair area is ordered as if it had this
@@ -143,12 +142,6 @@ impl Costs {
         relaxed
     }
 
-    /// Whether every wedge of class `c` is faceted now (see `all_faceted` in `mesh.rs`).
-    pub(super) fn is_faceted(&self, classes: &PositionClasses, c: u32) -> bool {
-        let Some(channel) = self.normal_channel else { return false };
-        all_faceted(classes.wedges_of(c), &self.wedge_attributes, self.channels, channel)
-    }
-
     /// Class `v` takes class `u`'s quadrics, merged at `p` (its relaxed quadric follows, once
     /// `v`'s wedge sums have taken `u`'s); returns the distance the merged geometric quadric
     /// measures at `p` (the root of its mean squared error), which the log records.
@@ -195,9 +188,8 @@ mod tests {
             triangle_materials: &[],
             vertex_quadrics: None,
             other_poses: None,
-            rigid_triangles: &[],
         };
-        let (mesh, sides) = Mesh::new(&input, None, Rules::ALL);
+        let (mesh, sides) = Mesh::new(&input, None);
         let costs =
             Costs::new(&mesh.classes, &sides, &mesh.input_normal, &input, &SimplifyOptions::default());
         (mesh, costs)

@@ -16,7 +16,7 @@ use super::super::topology::{
     classify, creases, other_corners, position_classes, Classification, ConstraintSide, CornerLists, Kind,
     PositionClasses, NONE,
 };
-use super::super::{Rule, Rules, SimplifyInput};
+use super::super::SimplifyInput;
 use super::scratch::Marks;
 use glam::{DVec3, Vec3};
 
@@ -37,9 +37,6 @@ pub(super) struct Mesh<'a> {
     /// Per class: on an open border or material line (see [`Classification::on_outline`]); a
     /// survivor inherits it.
     pub(super) on_outline: Vec<bool>,
-    /// Per class: a hard corner ([`hard_corners`]) that has not moved; a collapse into it keeps
-    /// its position (`plan.rs`).
-    pub(super) hard_corner: Vec<bool>,
     pub(super) lists: CornerLists,
     pub(super) corner_wedge: Vec<u32>,
     /// `classes.class_of[corner_wedge[corner]]`, kept beside it: the checks and plans ask for a
@@ -59,12 +56,10 @@ pub(super) struct Mesh<'a> {
 impl<'a> Mesh<'a> {
     /// The input as a mesh of position classes, none collapsed; also the sides of every
     /// constraint edge, where the costs put their penalty planes. `normal_channel`: see
-    /// [`super::super::SimplifyOptions::normal_channel`]; hard corners only with
-    /// [`Rule::HardCorners`] in `rules`.
+    /// [`super::super::SimplifyOptions::normal_channel`].
     pub(super) fn new(
         input: &SimplifyInput<'a>,
         normal_channel: Option<usize>,
-        rules: Rules,
     ) -> (Mesh<'a>, Vec<ConstraintSide>) {
         let positions = input.positions;
         let indices = input.indices;
@@ -90,17 +85,11 @@ impl<'a> Mesh<'a> {
                 (p1 - p0).cross(p2 - p0).normalize_or_zero()
             })
             .collect();
-        let hard_corner = if rules.has(Rule::HardCorners) {
-            hard_corners(&classes, &lists, input, normal_channel, &input_normal)
-        } else {
-            vec![false; class_count]
-        };
         let mesh = Mesh {
             materials: input.triangle_materials,
             input_normal,
             kind,
             on_outline,
-            hard_corner,
             lists,
             corner_wedge: indices.to_vec(),
             corner_class: indices.iter().map(|&w| classes.class_of[w as usize]).collect(),
@@ -261,69 +250,6 @@ impl Mesh<'_> {
     }
 }
 
-/// Two faces of a hard corner meet at a right angle or sharper: the cosine between their normals
-/// is below this (about 84°, with slack for modelling and rounding). A box's corners and edges
-/// are hard; a faceted organic shape such as Fox.glb has few such vertices, and those few are
-/// skinned (see [`hard_corners`]).
-const HARD_CORNER_COS: f64 = 0.1;
-
-/// Per class: whether it is a *hard corner*, where a collapse into it keeps its position instead
-/// of the quadric minimiser's (`plan.rs`). That is a faceted class (every wedge's normal is zero,
-/// see [`super::super::SimplifyOptions::normal_channel`]) whose triangles are all rigid
-/// ([`SimplifyInput::rigid_triangles`]) and two of which meet at [`HARD_CORNER_COS`] or sharper
-/// (found in two sweeps, which miss a pair only where no normal is that far from the one farthest
-/// from the first): a corner or edge of a rigid, flat-shaded mechanical part.
-///
-/// Why: merged, a hard-surface part's face planes have their minimiser inside the part (the
-/// midpoint of a box's edge between its two end caps), so free placement cuts the part's volume
-/// and the coarse level's surface leaves the input. On robot.glb at 82 triangles the level's
-/// distance to the input was 0.436 % of the diagonal against meshoptimizer's 0.351 % (which keeps
-/// input vertices), while the input's distance to the level was lower than meshoptimizer's (0.968
-/// against 1.026 %). Kept at their corners, the part's vertices stay on its surface. Where a
-/// triangle is skinned to several joints, the multi-pose planes place a vertex for every pose
-/// and free placement stays better: on Fox.glb (faceted, skinned) fixing every faceted vertex
-/// raised the mean ratio to meshoptimizer from 0.79 to 0.93, and fixing its sharp ones without
-/// the rigidity test made its 72-triangle level 8 % worse (bench/README.md, 2026-11-27 (day)).
-fn hard_corners(
-    classes: &PositionClasses,
-    lists: &CornerLists,
-    input: &SimplifyInput<'_>,
-    normal_channel: Option<usize>,
-    input_normal: &[DVec3],
-) -> Vec<bool> {
-    let (Some(channel), false) = (normal_channel, input.rigid_triangles.is_empty()) else {
-        return vec![false; classes.count()];
-    };
-    let stride = input.attribute_weights.len();
-    (0..classes.count() as u32)
-        .map(|c| {
-            let triangles = || lists.iter(c).map(|corner| corner as usize / 3);
-            let Some(first) = triangles().next().map(|t| input_normal[t]) else { return false };
-            if !(all_faceted(classes.wedges_of(c), input.attributes, stride, channel)
-                && triangles().all(|t| input.rigid_triangles[t]))
-            {
-                return false;
-            }
-            // Two sweeps, so a vertex with thousands of triangles costs thousands of products, not
-            // millions: the normal farthest from the first, then any normal that far from it. On a
-            // box's corner or edge the first sweep already finds a face at a right angle.
-            let normals = || triangles().map(|t| input_normal[t]);
-            let farthest = normals().min_by(|a, b| a.dot(first).total_cmp(&b.dot(first))).unwrap_or(first);
-            farthest.dot(first) < HARD_CORNER_COS || normals().any(|n| n.dot(farthest) < HARD_CORNER_COS)
-        })
-        .collect()
-}
-
-/// Whether every wedge of `wedges` is faceted: its normal (channel `channel` of its row of
-/// `stride` attributes) is zero, which the simplifier does not price (see `topology::creases`).
-/// Merged faceted wedges stay so.
-pub(super) fn all_faceted(wedges: &[u32], attributes: &[f32], stride: usize, channel: usize) -> bool {
-    wedges.iter().all(|&w| {
-        let at = w as usize * stride + channel;
-        attributes[at..at + 3] == [0.0; 3]
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -355,14 +281,13 @@ mod tests {
             triangle_materials: &[],
             vertex_quadrics: None,
             other_poses: None,
-            rigid_triangles: &[],
         }
     }
 
     #[test]
     fn neighbours_are_the_distinct_classes_around_a_class() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         let mut marks = Marks::new(mesh.classes.count());
         let mut out = vec![99];
@@ -384,7 +309,7 @@ mod tests {
     #[test]
     fn a_lone_triangle_or_sheet_vanishes_with_its_collapse() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         assert_eq!(mesh.lone_triangle_corner(class(9), class(10)), Some(class(11)));
         assert_eq!(mesh.vanishing_corner(class(9), class(10)), Some(class(11)));
@@ -401,7 +326,7 @@ mod tests {
     #[test]
     fn border_edges_are_constraints_and_interior_ones_are_not() {
         let (positions, indices) = mesh();
-        let (mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
+        let (mesh, _) = Mesh::new(&input(&positions, &indices), None);
         let class = |vertex: usize| mesh.classes.class_of[vertex];
         assert!(mesh.edge_is_constraint(class(0), class(1)), "one triangle");
         assert!(!mesh.edge_is_constraint(class(4), class(5)), "two alike");
@@ -411,7 +336,7 @@ mod tests {
     #[test]
     fn a_candidate_is_current_until_a_class_changes_or_dies() {
         let (positions, indices) = mesh();
-        let (mut mesh, _) = Mesh::new(&input(&positions, &indices), None, Rules::ALL);
+        let (mut mesh, _) = Mesh::new(&input(&positions, &indices), None);
         let (u, v) = (mesh.classes.class_of[4], mesh.classes.class_of[5]);
         let candidate = Candidate::new(1.0, u, v, mesh.stamp_of(u, v));
         assert!(mesh.is_current(&candidate));

@@ -26,9 +26,8 @@
 //! for interior–interior edges, for edges along a border or seam line, and for an interior vertex
 //! onto a seam that is on no outline (a uv or colour seam inside a smooth surface, which moves
 //! with it); the best point of the edge along a material line; `v`'s position for everything
-//! else (onto a border, material line or crease, onto a locked vertex, onto a hard corner of a
-//! rigid flat-shaded part (`hard_corners` in `mesh.rs`), and every half-edge collapse). Planning and f64
-//! pricing are in `plan.rs`.
+//! else (onto a border, material line or crease, onto a locked vertex, and every half-edge
+//! collapse). Planning and f64 pricing are in `plan.rs`.
 //!
 //! Cost. A collapse's quadric error is an area-weighted sum of squared distances (Garland &
 //! Heckbert 1997: each face plane weighs its area), so it approximates the squared distance
@@ -201,7 +200,7 @@ struct Engine<'a> {
 impl<'a> Engine<'a> {
     /// Every part at the start of a run over `input`: no collapse made, nothing queued.
     fn new(input: &SimplifyInput<'a>, options: &SimplifyOptions) -> Engine<'a> {
-        let (mesh, sides) = Mesh::new(input, options.normal_channel, options.rules);
+        let (mesh, sides) = Mesh::new(input, options.normal_channel);
         let class_count = mesh.classes.count();
         Engine {
             costs: Costs::new(&mesh.classes, &sides, &mesh.input_normal, input, options),

@@ -88,16 +88,9 @@ impl Pricing<'_, '_> {
         // moves changes the silhouette or the shading's edges, and letting it move raised
         // parts.glb's 228-triangle Hausdorff distance (1.02 %, meshoptimizer 0.81) and
         // RiggedSimple's 1 % level under animation by 47 %.
-        //
-        // Onto a hard corner (a corner or edge of a rigid flat-shaded part, see `hard_corners`
-        // in `mod.rs`) from a faceted class, the survivor stays put: the merged planes' minimiser
-        // would cut through the part.
+
         let rules = self.costs.rules;
         let placement = match (self.costs.mode, ku, kv) {
-            // `hard_corner` is all false without `Rule::HardCorners`.
-            _ if self.mesh.hard_corner[vi] && self.costs.is_faceted(&self.mesh.classes, u) => {
-                Placement::Fixed
-            }
             (CollapseMode::Full, Kind::Interior, Kind::Interior) => Placement::Free,
             (CollapseMode::Full, Kind::Line, Kind::Line) if material_edge => Placement::Segment,
             (CollapseMode::Full, Kind::Line | Kind::Corner, Kind::Line | Kind::Corner) if !material_edge => {
