@@ -45,7 +45,6 @@ fn main() {
         indices: &indices,
         triangle_materials: &[],
         vertex_quadrics: None,
-        other_poses: None,
     };
     for (name, attribute_weights, mode) in [
         ("full, 5 attributes", &weights[..], CollapseMode::Full),

@@ -56,5 +56,5 @@ pub use character::Character;
 pub use import::ImportError;
 pub use mesh::SkinnedMesh;
 pub use progressive::{PmCursor, ProgressiveMesh};
-pub use simplify::{simplify, CollapseMode, OtherPoses, Schedule, SimplifyInput, SimplifyOptions};
+pub use simplify::{simplify, CollapseMode, Schedule, SimplifyInput, SimplifyOptions};
 pub use skeleton::{Pose, Skeleton};

@@ -5,8 +5,7 @@ mod meshgen;
 use clod_viewer::metrics::closest_point_on_triangle;
 use clod_viewer::progressive::ProgressiveMesh;
 use clod_viewer::simplify::{
-    simplify, CollapseMode, OtherPoses, Quadric, Rule, Rules, Schedule, SimplifyError, SimplifyInput,
-    SimplifyOptions, StopReason,
+    simplify, CollapseMode, Quadric, Rule, Rules, Schedule, SimplifyError, SimplifyOptions, StopReason,
 };
 use glam::{DVec3, Vec3};
 use meshgen::{check_cursor, check_invariants, grid, spread_levels, Mesh};
@@ -788,70 +787,6 @@ fn max_distance_keeps_a_ridge_that_the_quadric_floor_cuts() {
         let same = both.collapses.iter().zip(&quadric_only.collapses).take_while(|(a, b)| a == b).count();
         assert!(same > 0 && same < quadric_only.collapse_count(), "{schedule:?}");
     }
-}
-
-/// A strip 1 wide and 2 long with a knee row in its middle, straight in the input pose; its other
-/// pose bends the lower half 90° about the knee. Straight, merging a knee vertex into the hip or
-/// the ankle costs nothing; bent, it leaves a chord whose middle stands 0.5 from the strip.
-fn bent_strip() -> (Mesh, Vec<Vec3>) {
-    let mesh = grid(1, 2, |_, _| 0.0);
-    let bent =
-        mesh.positions.iter().map(|p| if p.y < 1.0 { Vec3::new(p.x, 1.0, 1.0 - p.y) } else { *p }).collect();
-    (mesh, bent)
-}
-
-/// The distance floor holds in the other poses: the knee that the input pose would merge away
-/// stays, where one pose bends the strip at it.
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-#[cfg_attr(not(target_arch = "wasm32"), test)]
-fn max_distance_keeps_a_knee_that_another_pose_bends() {
-    let (mesh, bent) = bent_strip();
-    for schedule in [Schedule::Passes, Schedule::Strict] {
-        let options = SimplifyOptions { schedule, max_distance: 0.2, ..SimplifyOptions::default() };
-        let straight_only = mesh.simplify(&options);
-        assert_eq!(straight_only.indices_at(straight_only.collapse_count()).len(), 6, "{schedule:?}");
-        // The input pose given again as the other pose changes nothing.
-        let same = OtherPoses { count: 1, positions: &mesh.positions };
-        let with_same =
-            simplify(&SimplifyInput { other_poses: Some(same), ..mesh.input() }, &options).unwrap();
-        assert_eq!(with_same.collapses, straight_only.collapses, "{schedule:?}");
-        let poses = OtherPoses { count: 1, positions: &bent };
-        let with_bent =
-            simplify(&SimplifyInput { other_poses: Some(poses), ..mesh.input() }, &options).unwrap();
-        assert_eq!(with_bent.collapse_count(), 0, "{schedule:?}");
-        assert_eq!(with_bent.stop, StopReason::MaxErrorReached, "{schedule:?}");
-        // Without the rule the other pose is not asked.
-        let rules = Rules::ALL.without(Rule::DistanceFloorInPoses);
-        let unruled = simplify(
-            &SimplifyInput { other_poses: Some(poses), ..mesh.input() },
-            &SimplifyOptions { rules, ..options },
-        )
-        .unwrap();
-        assert_eq!(unruled.collapses, straight_only.collapses, "{schedule:?}");
-        // With room for the chord, the knee goes.
-        let loose = SimplifyOptions { max_distance: 0.6, ..options };
-        let with_loose =
-            simplify(&SimplifyInput { other_poses: Some(poses), ..mesh.input() }, &loose).unwrap();
-        assert_eq!(with_loose.collapses, mesh.simplify(&loose).collapses, "{schedule:?}");
-    }
-}
-
-#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-#[cfg_attr(not(target_arch = "wasm32"), test)]
-fn other_poses_of_the_wrong_length_or_not_finite_are_an_error() {
-    let mesh = tetrahedron();
-    let run = |positions: &[Vec3], count: usize| {
-        let poses = OtherPoses { count, positions };
-        simplify(&SimplifyInput { other_poses: Some(poses), ..mesh.input() }, &SimplifyOptions::default())
-            .err()
-    };
-    let two_poses: Vec<Vec3> = mesh.positions.iter().flat_map(|&p| [p, p + Vec3::X]).collect();
-    assert_eq!(run(&two_poses, 2), None);
-    assert_eq!(run(&two_poses, 3), Some(SimplifyError::OtherPoseLength { found: 8, vertices: 4, poses: 3 }));
-    assert_eq!(run(&[], 0), Some(SimplifyError::OtherPoseLength { found: 0, vertices: 4, poses: 0 }));
-    let mut nan = two_poses.clone();
-    nan[5].z = f32::NAN;
-    assert_eq!(run(&nan, 2), Some(SimplifyError::NonFiniteOtherPose(5)));
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

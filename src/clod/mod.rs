@@ -32,9 +32,7 @@ use thiserror::Error;
 use crate::character::Character;
 use crate::morph::MorphDeltas;
 use crate::progressive::{ProgressiveMesh, NONE};
-use crate::simplify::{
-    self, CollapseMode, OtherPoses, Rules, Schedule, SimplifyError, SimplifyInput, SimplifyOptions,
-};
+use crate::simplify::{self, CollapseMode, Rules, Schedule, SimplifyError, SimplifyInput, SimplifyOptions};
 use crate::skinning;
 pub use chain::{LodLevel, StoppedShort};
 pub use poses::SimplificationPose;
@@ -246,10 +244,7 @@ pub fn build(
         attribute_weights: &input.layout.weights,
         indices: &input.indices,
         triangle_materials: &input.triangle_materials,
-        vertex_quadrics: multi_pose.as_ref().map(|m| m.quadrics.as_slice()),
-        other_poses: multi_pose
-            .as_ref()
-            .map(|m| OtherPoses { count: m.pose_count, positions: &m.posed_positions }),
+        vertex_quadrics: multi_pose.as_deref(),
     };
     let max_distance = options.max_relative_error * crate::metrics::bounds_diagonal(&input.positions);
     let simplify_options = SimplifyOptions {

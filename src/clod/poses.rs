@@ -55,22 +55,6 @@ pub const DEFAULT_FRAMES_PER_CLIP: usize = 8;
 /// Upper bound on frames summed over all clips, so files with dozens of clips stay fast.
 pub const MAX_FRAMES: usize = 48;
 
-/// Frames, at most, in which the simplifier's distance floor holds too
-/// ([`crate::simplify::SimplifyInput::other_poses`]), spread evenly over the multi-pose frames
-/// (every vertex is stored once per frame, 12 bytes). On the shared models and the project's own,
-/// 8 gave the same levels as 4 and cost more: the build in wasm took 1.07–1.09× as long as without
-/// the frames, against 1.05× with 4.
-pub const MAX_DISTANCE_FRAMES: usize = 4;
-
-/// What the multi-pose frames give the simplifier: every vertex's summed quadric, its positions
-/// in up to [`MAX_DISTANCE_FRAMES`] of the frames (vertex after vertex, `pose_count` each; see
-/// [`crate::simplify::OtherPoses`]).
-pub(crate) struct MultiPoseInput {
-    pub quadrics: Vec<Quadric>,
-    pub pose_count: usize,
-    pub posed_positions: Vec<Vec3>,
-}
-
 /// The per-vertex blended skin matrices (`posed_from_bind`) of one pose.
 pub fn vertex_matrices(character: &Character, skin: &[Mat4]) -> Vec<Mat4> {
     let mesh = &character.mesh;
@@ -252,7 +236,7 @@ pub(crate) fn multi_pose_quadrics(
     p0_matrices: Option<&[Mat4]>,
     bind_scale: Option<f32>,
     frames_per_clip: usize,
-) -> Option<MultiPoseInput> {
+) -> Option<Vec<Quadric>> {
     let frames = multi_pose_frames(character, frames_per_clip);
     if frames.is_empty() {
         return None;
@@ -277,19 +261,7 @@ pub(crate) fn multi_pose_quadrics(
     // The frame's morphed bind positions: only the morphing vertices change from frame to frame.
     let morphing_vertices: Vec<usize> = (0..morphing.len()).filter(|&v| morphing[v]).collect();
     let mut morphed = if morphing_vertices.is_empty() { Vec::new() } else { mesh.positions.clone() };
-    let pose_count = frames.len().min(MAX_DISTANCE_FRAMES);
-    // Only the triangles' corners are posed: a welded-away copy is never read.
-    let mut is_corner = vec![false; mesh.vertex_count()];
-    for &v in indices {
-        is_corner[v as usize] = true;
-    }
-    let mut has_matrix = vec![false; mesh.vertex_count()];
-    for &v in frame_quadrics.vertices() {
-        has_matrix[v as usize] = true;
-    }
-    let mut posed_positions = vec![Vec3::ZERO; mesh.vertex_count() * pose_count];
-    let mut next_pose = 0;
-    for (frame, (skin, morph_weights)) in frames.iter().zip(&morph_weights).enumerate() {
+    for (skin, morph_weights) in frames.iter().zip(&morph_weights) {
         // Only the corners of the other triangles need their skin matrices.
         for &v in frame_quadrics.vertices() {
             let v = v as usize;
@@ -300,19 +272,6 @@ pub(crate) fn multi_pose_quadrics(
                 morphed[v] = mesh.positions[v] + mesh.morph.position_offset(v, morph_weights);
             }
         }
-        let bind = if morphing_vertices.is_empty() { &mesh.positions } else { &morphed };
-        // Frames `⌈k · len / count⌉`, `k = 0..count`: every frame while they are few enough.
-        if next_pose < pose_count && frame * pose_count >= next_pose * frames.len() {
-            for v in (0..is_corner.len()).filter(|&v| is_corner[v]) {
-                let matrix = if has_matrix[v] {
-                    matrices[v]
-                } else {
-                    blend_matrix(skin, mesh.joints[v], mesh.weights[v])
-                };
-                posed_positions[v * pose_count + next_pose] = matrix.transform_point3(bind[v]);
-            }
-            next_pose += 1;
-        }
         if morphing_vertices.is_empty() {
             frame_quadrics.add(&matrices, weight);
         } else {
@@ -320,7 +279,7 @@ pub(crate) fn multi_pose_quadrics(
         }
     }
     frame_quadrics.finish(&mut quadrics);
-    Some(MultiPoseInput { quadrics, pose_count, posed_positions })
+    Some(quadrics)
 }
 
 #[cfg(test)]

@@ -205,7 +205,6 @@ mod tests {
             indices: &indices,
             triangle_materials: &[],
             vertex_quadrics: None,
-            other_poses: None,
         };
         simplify(&input, &SimplifyOptions { target_triangles: 4, ..SimplifyOptions::default() }).unwrap()
     }

@@ -14,8 +14,7 @@
 //!
 //! The price is a mean over a sheet's corners; the distance floor asks more of a part that
 //! vanishes ([`Clearance::leaves_within`]): every one of its input points within the floor of a
-//! part left, in the input pose and in each other pose ([`OtherPoses`], a grid per pose built on
-//! the first such check). A vanished part hands its extreme points to the parts nearest them,
+//! part left. A vanished part hands its extreme points to the parts nearest them,
 //! which answer for them when they vanish in turn ([`Clearance::vanish`]).
 //!
 //! An open part (its last triangle) is measured against the live triangles of the parts left
@@ -30,7 +29,6 @@
 //! the input's units; distances come back squared.
 
 use super::topology::{PositionClasses, NONE};
-use super::OtherPoses;
 use crate::metrics::closest_point_on_triangle;
 use glam::{IVec3, UVec3, Vec3};
 use std::collections::{HashMap, HashSet};
@@ -45,14 +43,6 @@ use std::collections::{HashMap, HashSet};
 /// the clearance; spread over 100 m, 0.46 s): there most tests are exact ones, since the query
 /// lies in many triangles' bounding spheres.
 const MAX_VISITS: usize = 1024;
-/// The poses [`Clearance::leaves_within`] measures a vanishing part in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(super) enum PosesChecked {
-    /// The input pose (the simplification pose) and every other pose.
-    All,
-    /// The other poses only: the caller measured the input pose against the level itself.
-    OtherThanInput,
-}
 
 /// Points whose distance [`Clearance::leaves_within`] keeps to vouch for their neighbours: the
 /// test of a point against them is linear in their number.
@@ -73,17 +63,13 @@ const MAX_CELLS_PER_TRIANGLE: u32 = 64;
 pub(super) struct Clearance<'a> {
     positions: &'a [Vec3],
     indices: &'a [u32],
-    /// The input in other poses: a vanishing part's points are measured there too.
-    other_poses: Option<OtherPoses<'a>>,
     /// The parts and their grid, built on the first query.
     index: Option<Index>,
-    /// Per other pose, its positions and their grid, built on the first measure of a vanishing.
-    posed: Option<Vec<(Vec<Vec3>, Grid)>>,
     /// The last answer per class, with the part it found: a sheet's three edges are priced with
     /// the same corners. Stale once that part has vanished.
     answers: HashMap<u32, (Vec3, Option<Found>)>,
     /// Parts found not to vanish within a limit (part, the limit's bits).
-    stranded: HashSet<(u32, u32, PosesChecked)>,
+    stranded: HashSet<(u32, u32)>,
 }
 
 /// A search's answer: the squared distance to the nearest triangle found, and its part.
@@ -148,20 +134,8 @@ struct Grid {
 
 impl<'a> Clearance<'a> {
     /// Holds the input; nothing is computed before the first query.
-    pub(super) fn new(
-        positions: &'a [Vec3],
-        indices: &'a [u32],
-        other_poses: Option<OtherPoses<'a>>,
-    ) -> Self {
-        Clearance {
-            positions,
-            indices,
-            other_poses,
-            index: None,
-            posed: None,
-            answers: HashMap::new(),
-            stranded: HashSet::new(),
-        }
+    pub(super) fn new(positions: &'a [Vec3], indices: &'a [u32]) -> Self {
+        Clearance { positions, indices, index: None, answers: HashMap::new(), stranded: HashSet::new() }
     }
 
     /// The squared distance from class `class`, at `q`, to the nearest input triangle of a part
@@ -226,16 +200,10 @@ impl<'a> Clearance<'a> {
     }
 
     /// Whether class `class`'s part, if it vanished, would leave its input points, and those other
-    /// parts left to it, within `limit` of a part left, in the poses `checked` names (each point
-    /// is looked at only to `limit`, and only until one part is that near). Also when no other
-    /// part is left: there is nothing to measure against.
-    pub(super) fn leaves_within(
-        &mut self,
-        classes: &PositionClasses,
-        class: u32,
-        limit: f32,
-        checked: PosesChecked,
-    ) -> bool {
+    /// parts left to it, within `limit` of a part left (each point is looked at only to `limit`,
+    /// and only until one part is that near). Also when no other part is left: there is nothing
+    /// to measure against.
+    pub(super) fn leaves_within(&mut self, classes: &PositionClasses, class: u32, limit: f32) -> bool {
         let index = built(&mut self.index, classes, self.positions, self.indices);
         let part = index.class_part[class as usize];
         if index.parts_left <= 1 {
@@ -243,34 +211,28 @@ impl<'a> Clearance<'a> {
         }
         // Parts only vanish and points are only left to a part, so one that is not within the
         // limit never will be (the limit is the run's floor): its sheet's other edges ask again.
-        let key = (part, limit.to_bits(), checked);
+        let key = (part, limit.to_bits());
         if self.stranded.contains(&key) {
             return false;
         }
         let (positions, indices) = (self.positions, self.indices);
-        let posed =
-            self.posed.get_or_insert_with(|| posed_grids(self.other_poses, positions, indices, index));
-        let input = std::iter::once((self.positions, &index.grid)).filter(|_| checked == PosesChecked::All);
-        let mut poses = input.chain(posed.iter().map(|(positions, grid)| (positions.as_slice(), grid)));
         // A point within `d` of a part left puts every point within `limit − d` of it within
         // `limit` too: those need no search. Searches stop at a part within half the limit, so
         // most found points vouch for their neighbours.
         let mut found: Vec<(Vec3, f32)> = Vec::new();
-        let within = poses.all(|pose| {
-            found.clear();
-            index.points_of(part).all(|vertex| {
-                let q = pose.0[vertex as usize];
-                if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
-                    return true;
-                }
-                let Some((squared, _)) = index.search(indices, pose, q, part, (limit, 0.5 * limit)) else {
-                    return false;
-                };
-                if found.len() < MAX_VOUCHERS {
-                    found.push((q, squared.sqrt()));
-                }
-                true
-            })
+        let within = index.points_of(part).all(|vertex| {
+            let q = positions[vertex as usize];
+            if found.iter().any(|&(p, d)| d + p.distance(q) <= limit) {
+                return true;
+            }
+            let pose = (positions, &index.grid);
+            let Some((squared, _)) = index.search(indices, pose, q, part, (limit, 0.5 * limit)) else {
+                return false;
+            };
+            if found.len() < MAX_VOUCHERS {
+                found.push((q, squared.sqrt()));
+            }
+            true
         });
         if !within {
             self.stranded.insert(key);
@@ -319,16 +281,11 @@ impl<'a> Clearance<'a> {
         for (heir, vertex) in heirs {
             index.left_to.entry(heir).or_default().push(vertex);
         }
-        // Once most triangles in the grids have vanished, searches would sweep cells of them:
-        // the grids are built again over the live ones, with cells for their number (each
+        // Once most triangles in the grid have vanished, searches would sweep cells of them:
+        // the grid is built again over the live ones, with cells for their number (each
         // rebuild at most halves the triangles, so all of them cost a few builds of the first).
         if index.live_triangles > 0 && 2 * index.live_triangles < index.gridded_triangles {
             index.grid = index.grid_over(self.positions, self.indices);
-            if let Some(posed) = self.posed.as_mut() {
-                for (positions, grid) in posed.iter_mut() {
-                    *grid = index.grid_over(positions, self.indices);
-                }
-            }
             index.gridded_triangles = index.live_triangles;
         }
     }
@@ -377,24 +334,6 @@ impl Index {
         grid.search(q, start, limit_squared, &mut test);
         (best.1 != part).then_some(best)
     }
-}
-
-/// The input's positions in each other pose, and their grids.
-fn posed_grids(
-    poses: Option<OtherPoses<'_>>,
-    input: &[Vec3],
-    indices: &[u32],
-    index: &Index,
-) -> Vec<(Vec<Vec3>, Grid)> {
-    let Some(poses) = poses else { return Vec::new() };
-    (0..poses.count)
-        .map(|f| {
-            let positions: Vec<Vec3> =
-                (0..input.len()).map(|v| poses.positions[v * poses.count + f]).collect();
-            let grid = index.grid_over(&positions, indices);
-            (positions, grid)
-        })
-        .collect()
 }
 
 /// The parts and their grid in `index`, built on the first call.
@@ -685,7 +624,7 @@ mod tests {
             }
         }
         let classes = position_classes(&positions, &indices);
-        let mut clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices);
         for k in 0..300 {
             let q = (random() - 0.25) * if k % 10 == 0 { 40.0 } else { 12.0 };
             let class = classes.class_of[indices[(k * 7) % indices.len()] as usize];
@@ -695,7 +634,7 @@ mod tests {
             assert_eq!(clearance.squared_to_other_parts(&classes, class, q), expected);
         }
         // A mesh of one part has no other part.
-        let mut one = Clearance::new(&positions[..3], &indices[..3], None);
+        let mut one = Clearance::new(&positions[..3], &indices[..3]);
         assert_eq!(
             one.squared_to_other_parts(&position_classes(&positions[..3], &indices[..3]), 0, Vec3::ZERO),
             None
@@ -717,7 +656,7 @@ mod tests {
             indices.extend([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3].map(|k| k + base));
         }
         let classes = position_classes(&positions, &indices);
-        let mut clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices);
         for k in 0..50u32 {
             let class = classes.class_of[indices[k as usize * 12] as usize];
             let q = random();
@@ -757,40 +696,37 @@ mod tests {
     #[test]
     fn a_vanished_part_is_no_clearance_and_hands_its_points_on() {
         // Three one-triangle parts in the planes x = 0, 1 and 3, each over the same square in
-        // y and z: a point of one is |dx| from another. In a second pose the last part is 1
-        // farther out.
+        // y and z: a point of one is |dx| from another.
         let at = |x: f32| [Vec3::new(x, 0.0, 0.0), Vec3::new(x, 1.0, 0.0), Vec3::new(x, 0.0, 1.0)];
         let positions: Vec<Vec3> = [0.0, 1.0, 3.0].into_iter().flat_map(at).collect();
-        let posed: Vec<Vec3> = [0.0, 1.0, 4.0].into_iter().flat_map(at).collect();
-        let poses = OtherPoses { count: 1, positions: &posed };
         let indices: Vec<u32> = (0..9).collect();
         let classes = position_classes(&positions, &indices);
         let class = |part: u32| classes.class_of[3 * part as usize];
-        let mut clearance = Clearance::new(&positions, &indices, Some(poses));
+        let mut clearance = Clearance::new(&positions, &indices);
         let squared_at = |clearance: &mut Clearance, part: u32| {
             clearance.squared_to_other_parts(&classes, class(part), positions[3 * part as usize])
         };
         // The farthest a part leaves a point: just within a limit, not within one a bit less.
         let leaves = |clearance: &mut Clearance, part: u32, distance: f32| {
-            clearance.leaves_within(&classes, class(part), distance, PosesChecked::All)
-                && !clearance.leaves_within(&classes, class(part), distance * 0.999, PosesChecked::All)
+            clearance.leaves_within(&classes, class(part), distance)
+                && !clearance.leaves_within(&classes, class(part), distance * 0.999)
         };
         assert_eq!(squared_at(&mut clearance, 0), Some(1.0));
         assert!(leaves(&mut clearance, 0, 1.0));
-        assert!(leaves(&mut clearance, 2, 3.0), "in the other pose");
+        assert!(leaves(&mut clearance, 2, 2.0));
 
         // The middle part goes, leaving its points at x = 1 to the nearest part left, the first.
         clearance.vanish(&classes, class(1), 10.0);
         assert_eq!(squared_at(&mut clearance, 0), Some(9.0));
-        assert!(leaves(&mut clearance, 2, 4.0));
-        // The first part answers for them too: its own points stand 3 from the last part (4 in
-        // the other pose), those left to it 2 (3).
-        assert!(leaves(&mut clearance, 0, 4.0));
+        assert!(leaves(&mut clearance, 2, 3.0));
+        // The first part answers for them too: its own points stand 3 from the last part, those
+        // left to it 2.
+        assert!(leaves(&mut clearance, 0, 3.0));
 
         // Then the first goes: the last part is alone, with nothing left to measure against.
         clearance.vanish(&classes, class(0), 10.0);
         assert_eq!(squared_at(&mut clearance, 2), None);
-        assert!(clearance.leaves_within(&classes, class(2), 0.0, PosesChecked::All));
+        assert!(clearance.leaves_within(&classes, class(2), 0.0));
     }
 
     #[test]
@@ -801,7 +737,7 @@ mod tests {
         let classes = position_classes(&positions, &indices);
         assert_eq!(classes.count(), 6, "the copy is layered apart");
         assert_eq!(parts(&classes, &indices), [0; 6]);
-        let mut clearance = Clearance::new(&positions, &indices, None);
+        let mut clearance = Clearance::new(&positions, &indices);
         assert_eq!(clearance.squared_to_other_parts(&classes, classes.class_of[3], Vec3::ZERO), None);
     }
 }

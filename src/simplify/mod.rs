@@ -58,23 +58,6 @@ pub struct SimplifyInput<'a> {
     /// [`Quadric::from_triangle`] of every triangle to each of its three corners. `weight` should
     /// be the summed area: errors are divided by it.
     pub vertex_quadrics: Option<&'a [Quadric]>,
-    /// If given, the input in other poses (animation frames), where
-    /// [`SimplifyOptions::max_distance`] holds too; see [`OtherPoses`].
-    pub other_poses: Option<OtherPoses<'a>>,
-}
-
-/// The input mesh in `count` other poses (animation frames, say), where the distance floor
-/// ([`SimplifyOptions::max_distance`]) holds too: `positions[v * count + f]` is vertex `v` in
-/// pose `f`, in the units of [`SimplifyInput::positions`]. Only the positions of triangle corners
-/// are read. A vertex the simplifier has moved is placed in a pose by its input vertex's move
-/// from the input pose (the pose's rotation of its own move is not known here, so it is left
-/// out); a merged vertex by its two ends', blended by where it lies along the edge.
-#[derive(Clone, Copy, Debug)]
-pub struct OtherPoses<'a> {
-    /// Number of poses, at least 1.
-    pub count: usize,
-    /// `count` positions per vertex, vertex after vertex.
-    pub positions: &'a [Vec3],
 }
 
 /// Where a collapsed edge's surviving vertex goes.
@@ -132,11 +115,6 @@ pub struct SimplifyOptions {
     /// away whole is not held by it. The mean squared error misses a small part cut short (the
     /// toe of a sliver foot merged with its heel); this does not.
     ///
-    /// With [`SimplifyInput::other_poses`], make no collapse either that moves a point of the
-    /// surface farther than this in one of them (measured at sample points of the new
-    /// triangles). A straight leg's knee merged into its hip leaves the thigh a chord from hip to
-    /// ankle, which the input pose sees as on the surface and a stride sees standing in the air.
-    ///
     /// Default value: `f32::INFINITY`.
     pub max_distance: f32,
     /// First of three attribute channels holding a normal, renormalised after interpolation.
@@ -193,10 +171,6 @@ pub enum SimplifyError {
     QuadricCount { found: usize, vertices: usize },
     #[error("vertex quadric {0} has a coefficient that is not finite")]
     NonFiniteQuadric(usize),
-    #[error("{found} positions given for {vertices} vertices in {poses} other poses")]
-    OtherPoseLength { found: usize, vertices: usize, poses: usize },
-    #[error("position {0} of the other poses is not finite")]
-    NonFiniteOtherPose(usize),
     #[error("normal channel {channel} needs channels {channel}..{channel}+3 but there are {channels}")]
     NormalChannel { channel: usize, channels: usize },
 }
@@ -279,15 +253,6 @@ fn validate(input: &SimplifyInput, options: &SimplifyOptions) -> Result<(), Simp
         let finite = |q: &Quadric| q.a.iter().chain(&q.b).chain([&q.c, &q.weight]).all(|x| x.is_finite());
         if let Some(v) = quadrics.iter().position(|q| !finite(q)) {
             return Err(SimplifyError::NonFiniteQuadric(v));
-        }
-    }
-    if let Some(poses) = input.other_poses {
-        if poses.count == 0 || n.checked_mul(poses.count) != Some(poses.positions.len()) {
-            let found = poses.positions.len();
-            return Err(SimplifyError::OtherPoseLength { found, vertices: n, poses: poses.count });
-        }
-        if let Some(k) = poses.positions.iter().position(|p| !p.is_finite()) {
-            return Err(SimplifyError::NonFiniteOtherPose(k));
         }
     }
     if let Some(channel) = options.normal_channel {

@@ -5,7 +5,9 @@
 
 use std::collections::HashMap;
 
-use clod_viewer::clod::{self, Clod};
+use clod_viewer::clod::{self, Clod, ClodOptions};
+use clod_viewer::metrics::bounds_diagonal;
+use clod_viewer::render::lod_source::LodSource;
 use clod_viewer::vertex_cache::average_cache_miss_ratio;
 use clod_viewer::Character;
 
@@ -130,4 +132,41 @@ pub fn assert_level_zero_is_the_input(name: &str, clod: &Clod, character: &Chara
     ours.sort_unstable();
     input.sort_unstable();
     assert_eq!(ours, input, "{name}: level 0 is not the input (winding included)");
+}
+
+/// The default chain of `character` with every invariant checked, the back-propagation identity
+/// in the bind pose (the multi-pose build's simplification pose) and every level finite under
+/// every clip. Returns it and its level triangle counts.
+pub fn build_and_check(name: &str, character: &Character) -> (Clod, Vec<usize>) {
+    let built = clod::build(character, &ClodOptions::default(), &mut |_| {}).expect("it builds");
+    let counts: Vec<usize> = built.levels.iter().map(|l| l.triangle_count()).collect();
+    eprintln!("{name}: levels {counts:?}, stop {:?}", built.apm.pm.stop);
+    check_chain(name, &built);
+    assert_level_zero_is_the_input(name, &built, character);
+    let rest = character.skin_matrices(&character.skeleton.rest_pose());
+    assert_levels_skin_to_their_static_positions(
+        name,
+        &built,
+        &rest,
+        bounds_diagonal(&character.mesh.positions),
+    );
+    assert_eq!(built.apm.singular_back_propagations, 0, "{name}");
+    for clip in &character.clips {
+        let skin = character.skin_matrices(&character.pose_at(clip, clip.duration() * 0.3));
+        for i in 0..built.levels.len() {
+            let posed = built.level_skinned_positions(i, &skin);
+            assert!(posed.iter().all(|p| p.is_finite()), "{name} {} level {i}", clip.name);
+        }
+    }
+    (built, counts)
+}
+
+/// Every corner the coarsest level draws is faceted: a flat-shaded file stays flat.
+pub fn assert_coarsest_is_faceted(name: &str, character: &Character, built: &Clod) {
+    let source = LodSource::from_clod(character, built);
+    let last = source.levels.last().expect("levels");
+    assert!(
+        last.indices.iter().all(|&v| last.faceted[v as usize]),
+        "{name}: a smooth corner at the coarsest level"
+    );
 }

@@ -28,7 +28,6 @@ impl Mesh {
             indices: &self.indices,
             triangle_materials: &self.materials,
             vertex_quadrics: None,
-            other_poses: None,
         }
     }
 

@@ -40,8 +40,7 @@ const SEARCH_FROM: f64 = 0.1;
 /// The topological and geometric checks of a planned collapse: link condition, no duplicate
 /// triangles, no merged constraint lines, no folds. A valid collapse gives the input vertex
 /// the merged vertex is to track and its distance from the surface the collapse leaves (see
-/// [`Probes`]), or where larger, how far the collapse moves the surface in another pose
-/// (`poses.rs`); `None` for an invalid one. `steps`: the collapses logged so far (see
+/// [`Probes`]); `None` for an invalid one. `steps`: the collapses logged so far (see
 /// [`Floors::open_part_within`]); `scratch` lends its marks and probe buffers.
 pub(super) fn check(
     mesh: &Mesh,
@@ -111,10 +110,9 @@ pub(super) fn check(
     }
     if count == 1 && floors.open_parts_within_reach && mesh.lone_triangle_corner(u, v).is_some() {
         // A lone open triangle: its part vanishes no farther from the level than the level
-        // has reached (its price, `plan.rs`), and within the floor in the other poses.
+        // has reached (its price, `plan.rs`).
         let reached = floors.reached_distance;
-        let within = floors.open_part_within(mesh, steps, u, reached).is_ok()
-            && floors.vanishes_within_floor_in_other_poses(mesh, u);
+        let within = floors.open_part_within(mesh, steps, u, reached).is_ok();
         return Some((floors.farthest_input[v as usize], if within { reached } else { f64::INFINITY }));
     }
     if mesh.kind[u as usize] != Kind::Interior {
@@ -131,8 +129,7 @@ pub(super) fn check(
     let buffer = std::mem::take(&mut scratch.probe_triangles);
     let ends = [u, v].map(|end| floors.farthest_input[end as usize]);
     let points = ends.map(|vertex| floors.input_positions[vertex as usize].as_dvec3());
-    let posed = floors.measures_in_poses(mesh, plan);
-    let mut probes = Probes::new(points, plan.p, floors.max_distance, buffer, posed);
+    let mut probes = Probes::new(points, plan.p, floors.max_distance, buffer);
     let unfolded = mesh.fan_unfolded(u, v, plan.p, &mut probes)
         && if plan.p == mesh.position[v as usize] {
             // v's triangles keep their corners: nothing to check, still surface to measure.
@@ -143,15 +140,7 @@ pub(super) fn check(
         };
     let farthest = unfolded.then(|| {
         let (k, distance) = probes.farthest();
-        let in_poses = if posed && probes.survivors && !(distance > floors.max_distance) {
-            let mut old = std::mem::take(&mut scratch.posed_triangles);
-            let step = floors.step_beyond_floor_in_poses(mesh, plan, &probes.triangles, &mut old);
-            scratch.posed_triangles = old;
-            step
-        } else {
-            0.0
-        };
-        (ends[k], distance.max(in_poses))
+        (ends[k], distance)
     });
     scratch.probe_triangles = probes.triangles;
     farthest
@@ -187,7 +176,7 @@ impl Mesh<'_> {
         if !(old_cross == DVec3::ZERO || cross.dot(old_cross) > 0.0) {
             return false;
         }
-        probes.measure(ProbeTriangle { corners: new, cross, length_squared, classes });
+        probes.measure(ProbeTriangle { corners: new, cross, length_squared });
         true
     }
 
@@ -217,7 +206,7 @@ impl Mesh<'_> {
             let cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
             let length_squared = cross.length_squared();
             if length_squared > 0.0 {
-                probes.measure(ProbeTriangle { corners, cross, length_squared, classes });
+                probes.measure(ProbeTriangle { corners, cross, length_squared });
             }
         }
     }
@@ -247,8 +236,6 @@ pub(super) struct Probes {
     /// Whether a surviving triangle was seen: with none, nothing is left around the merged
     /// vertex, and the part's own pricing (`clearance.rs`) weighs that.
     pub(super) survivors: bool,
-    /// Whether every surviving triangle is kept, measured or not: the other poses need them.
-    keep_all: bool,
     /// The surviving triangles, measured at the end nearest plane first, so that most of the
     /// others are ruled out by their plane (the engine's scratch, lent for the check).
     pub(super) triangles: Vec<ProbeTriangle>,
@@ -257,22 +244,14 @@ pub(super) struct Probes {
 /// A surviving triangle as [`Probes`] measures it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ProbeTriangle {
-    pub(super) corners: [DVec3; 3],
+    corners: [DVec3; 3],
     /// The unnormalised normal, and its squared length (positive).
     cross: DVec3,
     length_squared: f64,
-    /// The corners' classes, one of them an end of the collapse: the merged vertex.
-    pub(super) classes: [u32; 3],
 }
 
 impl Probes {
-    fn new(
-        points: [DVec3; 2],
-        p: DVec3,
-        limit: f64,
-        mut triangles: Vec<ProbeTriangle>,
-        keep_all: bool,
-    ) -> Self {
+    fn new(points: [DVec3; 2], p: DVec3, limit: f64, mut triangles: Vec<ProbeTriangle>) -> Self {
         let nearest_squared = points.map(|q| q.distance_squared(p));
         let search_from = (SEARCH_FROM * limit).powi(2);
         triangles.clear();
@@ -281,14 +260,13 @@ impl Probes {
             nearest_squared,
             measured: nearest_squared.map(|d| d > search_from),
             survivors: false,
-            keep_all,
             triangles,
         }
     }
 
-    /// Whether surviving triangles are kept: for measuring, or for the other poses.
+    /// Whether surviving triangles are kept for measuring.
     fn keeps_triangles(&self) -> bool {
-        self.keep_all || self.measured.contains(&true)
+        self.measured.contains(&true)
     }
 
     /// Takes a surviving triangle.

@@ -187,7 +187,6 @@ mod tests {
             indices,
             triangle_materials: &[],
             vertex_quadrics: None,
-            other_poses: None,
         };
         let (mesh, sides) = Mesh::new(&input, None);
         let costs =

@@ -1,9 +1,8 @@
 //! The floors a collapse must stay within besides the error limit, and what they remember: the
 //! distance floor ([`super::super::SimplifyOptions::max_distance`]) with the input vertex each
-//! class tracks (`Probes` in `checks.rs`), the input in other poses, where the floor holds too
-//! (`poses.rs`), the clearance of the input's parts (`clearance.rs`), how far the level has
-//! reached, and the open parts waiting for it to reach farther ([`Waiting`]). Part of the
-//! collapse engine in `mod.rs`.
+//! class tracks (`Probes` in `checks.rs`), the clearance of the input's parts (`clearance.rs`),
+//! how far the level has reached, and the open parts waiting for it to reach farther
+//! ([`Waiting`]). Part of the collapse engine in `mod.rs`.
 //!
 //! An open part's last triangle goes once every point of the part lies within the distance the
 //! level has already reached (`open_part_vanishing_error` in `plan.rs`); until then it waits, and
@@ -15,9 +14,9 @@
 // `!(x > limit)` is deliberate throughout: unlike `x <= limit` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::super::clearance::{Clearance, PosesChecked};
+use super::super::clearance::Clearance;
 use super::super::topology::PositionClasses;
-use super::super::{OtherPoses, Rule, SimplifyInput, SimplifyOptions, StopReason};
+use super::super::{Rule, SimplifyInput, SimplifyOptions, StopReason};
 use super::mesh::Mesh;
 use crate::metrics::closest_point_on_triangle_f64;
 use glam::{DVec3, Vec3};
@@ -47,9 +46,6 @@ pub(super) struct Floors<'a> {
     pub(super) farthest_input: Vec<u32>,
     /// The input positions ([`SimplifyInput::positions`]).
     pub(super) input_positions: &'a [Vec3],
-    /// [`SimplifyInput::other_poses`], where the distance floor holds too (`poses.rs`); `None`
-    /// without [`Rule::DistanceFloorInPoses`].
-    pub(super) other_poses: Option<OtherPoses<'a>>,
     /// How far the input's other parts are, for pricing a part that vanishes.
     pub(super) clearance: Clearance<'a>,
     /// The farthest a committed collapse has left an input point from the level so far, in the
@@ -73,7 +69,6 @@ impl<'a> Floors<'a> {
         options: &SimplifyOptions,
         classes: &PositionClasses,
     ) -> Self {
-        let other_poses = input.other_poses.filter(|_| options.rules.has(Rule::DistanceFloorInPoses));
         Floors {
             max_distance: f64::from(options.max_distance),
             distance_floor: options.rules.has(Rule::DistanceFloor),
@@ -81,8 +76,7 @@ impl<'a> Floors<'a> {
             over_floor: false,
             farthest_input: classes.representative.clone(),
             input_positions: input.positions,
-            other_poses,
-            clearance: Clearance::new(input.positions, input.indices, other_poses),
+            clearance: Clearance::new(input.positions, input.indices),
             reached_distance: 0.0,
             waiting: Waiting::default(),
             last_open_part_within: None,
@@ -106,20 +100,7 @@ impl Floors<'_> {
     /// sheet's corners, which lets a thin part reaching out go while its tip stands farther than
     /// the floor from everything left.
     pub(super) fn vanishes_within_floor(&mut self, mesh: &Mesh, sheet: [u32; 3]) -> bool {
-        self.clearance.leaves_within(&mesh.classes, sheet[0], self.max_distance as f32, PosesChecked::All)
-    }
-
-    /// Whether class `class`'s open part, vanishing with its last triangle, leaves its input
-    /// points within the distance floor of the other parts' input in the poses other than the
-    /// simplification pose (as a closed part). In the simplification pose the level is what is
-    /// left, and the part is measured against it ([`Floors::open_part_within`]).
-    pub(super) fn vanishes_within_floor_in_other_poses(&mut self, mesh: &Mesh, class: u32) -> bool {
-        self.clearance.leaves_within(
-            &mesh.classes,
-            class,
-            self.max_distance as f32,
-            PosesChecked::OtherThanInput,
-        )
+        self.clearance.leaves_within(&mesh.classes, sheet[0], self.max_distance as f32)
     }
 
     /// Whether every input point of class `class`'s open part (its own and those left to it) lies

@@ -280,7 +280,6 @@ mod tests {
             indices,
             triangle_materials: &[],
             vertex_quadrics: None,
-            other_poses: None,
         }
     }
 

@@ -9,8 +9,8 @@
 //! * `order.rs`, the candidates in their order (the strict heap, the passes' candidates) and the
 //!   classes parked by a failed check;
 //! * `floors.rs`, the floors besides the error limit and what they remember: the distance floor,
-//!   in other poses too (`poses.rs`), the clearance of parts (`clearance.rs`), how far the level
-//!   has reached and the open parts waiting for it;
+//!   the clearance of parts (`clearance.rs`), how far the level has reached and the open parts
+//!   waiting for it;
 //! * `scratch.rs`, buffers one step fills and the next reuses;
 //! * `record.rs`, the log, the wedges' vertex ids in it, and the counts (`stats.rs`).
 //!
@@ -49,9 +49,7 @@
 //! a distance ([`SimplifyOptions::max_distance`]): a collapse that would leave the input vertex
 //! either end tracks (of those it stands for, the one left farthest from the surface) farther
 //! than it from the triangles around the merged vertex is skipped the same way (`checks.rs`);
-//! the RMS misses a small part cut short, a toe merged with its heel. Given the input in other
-//! poses, a collapse that moves the surface farther than the floor in one of them is skipped too
-//! (`poses.rs`): a knee merged into its hip while the leg is straight.
+//! the RMS misses a small part cut short, a toe merged with its heel.
 //!
 //! Two orders ([`Schedule`]), both deterministic (every choice follows a total order on
 //! (cost, u, v), u scrambled (`queue.rs`), and thresholds derived from the mesh state alone,
@@ -81,7 +79,6 @@ mod mesh;
 mod order;
 mod passes;
 mod plan;
-mod poses;
 mod record;
 mod scratch;
 mod stats;
@@ -90,7 +87,7 @@ mod strict;
 pub use stats::{pricing_stats, PricingStats};
 
 use super::queue::Candidate;
-use super::{OtherPoses, Schedule, SimplifyInput, SimplifyOptions};
+use super::{Schedule, SimplifyInput, SimplifyOptions};
 use crate::progressive::CollapseLog;
 use costs::Costs;
 use floors::Floors;

@@ -5,7 +5,6 @@
 //! of the collapse engine in `mod.rs`.
 
 use super::checks::ProbeTriangle;
-use glam::DVec3;
 
 /// Scratch buffers of the collapse engine (see the module docs).
 #[derive(Default)]
@@ -22,8 +21,6 @@ pub(super) struct Scratch {
     pub(super) new_attributes: Vec<f32>,
     /// The surviving triangles of the collapse being checked (`checks.rs`, `Probes`).
     pub(super) probe_triangles: Vec<ProbeTriangle>,
-    /// The replaced triangles of a collapse in a pose (`poses.rs`).
-    pub(super) posed_triangles: Vec<[DVec3; 3]>,
 }
 
 impl Scratch {
