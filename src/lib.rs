@@ -46,8 +46,6 @@ pub mod vertex_cache;
 
 #[cfg(feature = "js")]
 pub mod js_api;
-#[cfg(feature = "js")]
-pub mod js_options;
 #[cfg(feature = "web")]
 pub mod web;
 

@@ -4,8 +4,11 @@
 //   import type { ClodViewerElement, ViewerState } from './viewer/clod-viewer.js';
 //   const viewer = document.querySelector('clod-viewer')!; // typed: HTMLElementTagNameMap below
 //
-// The names are the element's and the viewer's own (src/web/); tests/js/dts.test.mjs fails when
-// `state()`, `setState` or the element gain a name this file does not declare.
+// The viewer's shapes are Rust types (src/js_api/viewer_state.rs, viewer_settings.rs);
+// tests/js/dts.test.mjs checks this file against a fully populated serialization of them
+// (tests/js/types/api-samples.json) with the TypeScript compiler, and fails when `state()`,
+// `setState`, `meterHistory()`, `measurePopSpike`, `replay()`, `flipImages` or the element gain,
+// lose or change a name.
 
 /** A transition method: what each view shows. */
 export type Method = 'popping' | 'alpha' | 'geomorph';
@@ -42,7 +45,7 @@ export interface MethodPop {
   uncontrolled: { silhouette: number; shading: number };
 }
 
-/** `meterHistory()`: the meter's recent samples, oldest first. */
+/** `meterHistory()`: the live meter's recent samples (about ten seconds), oldest first. */
 export interface MeterHistory {
   /** The method of each view. */
   methods: Method[];
@@ -216,8 +219,8 @@ export interface ViewerSettings {
   /** Animation seconds. */
   time?: number;
   speed?: number;
-  /** A clip name. */
-  clip?: string;
+  /** A clip name; null for the rest pose. */
+  clip?: string | null;
   distanceMode?: 'dolly' | 'manual';
   /** × the framing distance (switches to manual). */
   distance?: number;
@@ -257,6 +260,18 @@ export interface ViewerSettings {
   preset?: 'demonstration' | 'realistic';
 }
 
+/** `measurePopSpike(options)`: every key optional; an unknown key or a bad value rejects. */
+export interface PopSpikeOptions {
+  /** The switch to this level from the one before (default: the coarsest). */
+  level?: number;
+  /** Offscreen frames drawn, 8..600 (default 96). */
+  frames?: number;
+  /** Fraction of the distance moved, 1e-4..0.5 (default 0.008). */
+  sweep?: number;
+  /** Framing distances where the switch is placed, 0.5..50 (default 1). */
+  at?: number;
+}
+
 /** `measurePopSpike(options)`'s result: each method's largest frame-to-frame mean |ΔRGB| per pixel
  * (0..765) through one LOD switch, null for a method no view shows. */
 export interface PopSpike {
@@ -273,6 +288,16 @@ export interface PopSpike {
   duration: number;
   /** Per view: its method, its largest change and the change at every frame. */
   views: { method: Method; largest: number; series: number[] }[];
+}
+
+/** `flipImages()`'s result: LDR-FLIP's error map of two pictures, 0..1. */
+export interface FlipResult {
+  mean: number;
+  /** The 99th percentile. */
+  p99: number;
+  max: number;
+  /** The pixels per degree the pictures were seen at. */
+  ppd: number;
 }
 
 /** A model to show: a `.glb`, or a `.gltf` with its buffers and images by file name. */
@@ -326,7 +351,7 @@ export class ClodViewerElement extends HTMLElement {
   replay(): Replay | null;
   /** The replay drawn as one PNG (see `drawReplay`), or null before a transition. */
   replayPng(): Promise<Blob | null>;
-  measurePopSpike(options?: { level?: number; frames?: number; sweep?: number; at?: number }): Promise<PopSpike>;
+  measurePopSpike(options?: PopSpikeOptions): Promise<PopSpike>;
   /** Draws one frame at `nowMs` (with `manual-frames`) and returns the state. */
   renderFrame(nowMs: number): ViewerState;
   /** The current frame: RGBA8, top row first. */
@@ -338,7 +363,7 @@ export class ClodViewerElement extends HTMLElement {
   /** LDR-FLIP (Andersson et al. 2020) of two RGBA8 sRGB pictures on the viewer's GPU, seen at
    * `ppd` pixels per degree (default 67.02): the error map's mean, 99th percentile and maximum,
    * or null where the GPU cannot render into float targets. */
-  flipImages(reference: Uint8Array, test: Uint8Array, width: number, height: number, ppd?: number): Promise<{ mean: number; p99: number; max: number; ppd: number } | null>;
+  flipImages(reference: Uint8Array, test: Uint8Array, width: number, height: number, ppd?: number): Promise<FlipResult | null>;
   /** A PNG of the current frame with the views' labels. */
   screenshot(): Promise<Blob>;
   /** Shows another model; on failure the previous one keeps playing. */
@@ -359,8 +384,6 @@ export function loadBuild(backend: 'webgpu' | 'webgl2'): Promise<{ module: unkno
 export function webgpuWorks(): Promise<boolean>;
 /** A `.gltf` resolver over dropped files, by name (the wasm side asks for a URI's path, then its last segment). */
 export function resolverFor(resources: Map<string, Uint8Array> | undefined): (name: string) => Uint8Array | null;
-/** `pop blend morph` (one to three, any of `pop|popping`, `blend|alpha`, `morph|geomorph`) as methods. */
-export function parseModes(text: string): Method[];
 /** Colours of the methods in the page's charts and the replay. */
 export const METHOD_COLORS: Record<Method, string>;
 /** Draws `replay` on `canvas` (resized to fit): a row per view, its crops magnified `zoom` times

@@ -33,7 +33,10 @@ export { drawReplay, METHOD_COLORS } from './clod-replay.js';
 
 const here = new URL('.', import.meta.url);
 const DEFAULT_SRC = new URL('assets/character.glb', here).href;
-const MODE_NAMES = { pop: 'popping', popping: 'popping', blend: 'alpha', alpha: 'alpha', morph: 'geomorph', geomorph: 'geomorph' };
+// The attributes that change the viewer's settings, in the order they are applied (the preset
+// first: an explicit tolerance attribute then overrides its threshold); the viewer reads their
+// values (`applyAttribute`), and `autoplay` is applied absent too (paused).
+const SETTING_ATTRIBUTES = ['autoplay', 'preset', 'clip', 'modes', 'variant', 'tolerance', 'mode', 'count'];
 const METHOD_LABELS = { popping: 'popping', alpha: 'alpha-blending', geomorph: 'geomorphing' };
 // Labels of narrow views (the `modes` attribute's names).
 const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' };
@@ -236,20 +239,8 @@ function installStyle() {
   document.head.append(style);
 }
 
-/** The methods of a `modes` attribute (`pop blend morph`), in order; throws on an unknown word. */
-export function parseModes(text) {
-  const words = text.trim().split(/[\s,+]+/).filter(Boolean);
-  const methods = words.map((w) => {
-    const m = MODE_NAMES[w.toLowerCase()];
-    if (!m) throw new Error(`modes: unknown mode "${w}" (use pop, blend, morph)`);
-    return m;
-  });
-  if (methods.length < 1 || methods.length > 3) throw new Error(`modes: give one to three of pop, blend, morph (got "${text}")`);
-  return methods;
-}
-
 export class ClodViewerElement extends HTMLElement {
-  static observedAttributes = ['src', 'clip', 'modes', 'variant', 'tolerance', 'autoplay', 'mode', 'count', 'preset'];
+  static observedAttributes = ['src', ...SETTING_ATTRIBUTES];
 
   #canvas = null;
   #labels = [];
@@ -298,7 +289,10 @@ export class ClodViewerElement extends HTMLElement {
     if (old === value || !this.#viewer) return;
     if (name === 'src') { this.#source = null; this.#pending = null; this.#prepare(); this.#startWhenVisible(); return; }
     try {
-      this.setState(this.#attributeState(name));
+      // The viewer reads the attribute (src/js_api/attributes.rs); a value it does not take
+      // throws a sentence quoting it.
+      this.#viewer.applyAttribute(name, value);
+      this.#schedule();
     } catch (e) {
       this.#fail(coded(e, 'attribute'));
     }
@@ -548,7 +542,7 @@ export class ClodViewerElement extends HTMLElement {
 
   async #chooseBuild() {
     const forced = this.getAttribute('backend');
-    if (forced && forced !== 'webgpu' && forced !== 'webgl2') throw coded(new Error(`backend="${forced}": use webgpu or webgl2`), 'attribute');
+    if (forced && forced !== 'webgpu' && forced !== 'webgl2') throw coded(new Error(`backend="${forced}": must be one of "webgpu", "webgl2"`), 'attribute');
     const order = forced ? [forced] : (await webgpuWorks()) ? ['webgpu', 'webgl2'] : ['webgl2'];
     const failures = [];
     for (const backend of order) {
@@ -614,8 +608,9 @@ export class ClodViewerElement extends HTMLElement {
     // Each attribute on its own: a value this model cannot take (say a clip of the previous
     // model, kept in the page's URL) is ignored and reported, never fatal.
     const ignored = [];
-    for (const [name, state] of this.#initialState()) {
-      try { viewer.setState(state()); } catch (e) { ignored.push(`${name}: ${e.message ?? e}`); }
+    for (const name of SETTING_ATTRIBUTES) {
+      if (name !== 'autoplay' && !this.hasAttribute(name)) continue;
+      try { viewer.applyAttribute(name, this.getAttribute(name)); } catch (e) { ignored.push(e.message ?? String(e)); }
     }
     this.#ignored = ignored;
     this.#viewer?.free();
@@ -633,31 +628,6 @@ export class ClodViewerElement extends HTMLElement {
     const state = this.#updateLabels();
     state.name = source.name;
     return state;
-  }
-
-  // `[attribute, () => setState object]` pairs for the attributes set (a bad `modes` throws).
-  #initialState() {
-    const pairs = [['autoplay', () => ({ paused: !this.hasAttribute('autoplay') })]];
-    // The preset first: an explicit tolerance attribute then overrides its threshold.
-    for (const name of ['preset', 'clip', 'modes', 'variant', 'tolerance', 'mode', 'count']) {
-      if (this.hasAttribute(name)) pairs.push([name, () => this.#attributeState(name)]);
-    }
-    return pairs;
-  }
-
-  #attributeState(name) {
-    const value = this.getAttribute(name);
-    switch (name) {
-      case 'clip': return { clip: value };
-      case 'modes': return { methods: parseModes(value ?? 'pop blend morph') };
-      case 'variant': return { variant: value };
-      case 'tolerance': return { tolerance: Number(value) };
-      case 'autoplay': return { paused: value === null };
-      case 'mode': return { mode: value ?? 'single' };
-      case 'count': return { count: Number(value) };
-      case 'preset': return { preset: value ?? 'realistic' };
-      default: return {};
-    }
   }
 
   // Shows a failure (an Error with one of ERROR_CODES, see `coded`) and fires `error`.

@@ -16,7 +16,6 @@
 
 mod pop_spike;
 mod replay;
-mod settings;
 mod state;
 
 use std::cell::{RefCell, RefMut};
@@ -24,12 +23,13 @@ use std::rc::Rc;
 
 use glam::{Mat4, Vec3};
 use wasm_bindgen::prelude::*;
-use wasm_bindgen::JsCast;
 
 use crate::character::Character;
 use crate::clod::{self, Clod, ClodOptions};
 use crate::import;
-use crate::js_options;
+use crate::js_api::read::{read, to_js};
+use crate::js_api::viewer_settings::{Backend, CreateOptions, ViewerSettings};
+use crate::js_api::viewer_state::{FlipResult, Num, ViewerState};
 use crate::render::camera::OrbitCamera;
 use crate::render::crowd::{Crowd, PosePalette};
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
@@ -61,7 +61,7 @@ struct Queue {
     updates: Vec<Update>,
     size: Option<(u32, u32)>,
     clips: Vec<String>,
-    last_state: String,
+    last_state: ViewerState,
 }
 
 struct Inner {
@@ -141,34 +141,29 @@ impl Viewer {
         bytes: Vec<u8>,
         options: JsValue,
     ) -> Result<Viewer, JsValue> {
-        let backend = js_options::get_string(&options, "backend").unwrap_or_else(|| "webgpu".into());
-        let choice = match backend.as_str() {
-            "webgpu" => BackendChoice::WebGpu,
-            "webgl2" if cfg!(feature = "webgl") => BackendChoice::WebGl2,
-            "webgl2" => {
+        let options: CreateOptions = if options.is_undefined() || options.is_null() {
+            CreateOptions::default()
+        } else {
+            read("Viewer.create", options, "{ backend: 'webgpu' }").map_err(|e| js_sys::Error::new(&e))?
+        };
+        let choice = match options.backend.map_or(Backend::WebGpu, |b| b.0) {
+            Backend::WebGpu => BackendChoice::WebGpu,
+            Backend::WebGl2 if cfg!(feature = "webgl") => BackendChoice::WebGl2,
+            Backend::WebGl2 => {
                 return Err(coded_error("backend", "this build has no WebGL2 backend; load the webgl build"))
             }
-            other => {
-                return Err(coded_error(
-                    "backend",
-                    format!("unknown backend {other:?}; use \"webgpu\" or \"webgl2\""),
-                ))
-            }
         };
-        let resolve =
-            js_options::get(&options, "resolve").and_then(|f| f.dyn_into::<js_sys::Function>().ok());
-        let mut resolver = js_options::resolver(resolve.as_ref());
+        let mut resolver = crate::js_api::resolver(options.resolve.as_ref().map(|r| &r.0));
         let character = import::from_bytes(&bytes, &mut resolver).map_err(|e| coded_error("model", e))?;
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();
-        let prebuilt =
-            js_options::get(&options, "clod").and_then(|c| c.dyn_into::<js_sys::Uint8Array>().ok());
-        let later = js_options::get_string(&options, "lod").as_deref() == Some("later");
+        let prebuilt = options.clod.map(|c| c.0);
+        let later = options.lod.is_some();
         let built_off_main_thread = prebuilt.is_some();
         let started = js_sys::Date::now();
         let clod = match prebuilt {
-            Some(encoded) => Some(decode_chain(&encoded.to_vec(), &character)?),
+            Some(encoded) => Some(decode_chain(&encoded, &character)?),
             // The levels arrive later (`attachLod`): the full mesh is drawn meanwhile.
             None if later => None,
             None => match clod::build(&character, &ClodOptions::default(), &mut |_| {}) {
@@ -185,8 +180,8 @@ impl Viewer {
             None => LodSource::full_mesh(&character),
         };
         next_task().await;
-        let build_ms = match js_options::get(&options, "buildMs").and_then(|v| v.as_f64()) {
-            Some(ms) if built_off_main_thread => ms,
+        let build_ms = match options.build_ms {
+            Some(ms) if built_off_main_thread => ms.0,
             _ if later => 0.0,
             _ => js_sys::Date::now() - started,
         };
@@ -235,7 +230,7 @@ impl Viewer {
         };
         // The viewer answers `state()` from birth: a page that asks while the first frame or the
         // levels hold it gets the state it was created with, never null.
-        let queue = Queue { updates: Vec::new(), size: None, clips, last_state: inner.state_json() };
+        let queue = Queue { updates: Vec::new(), size: None, clips, last_state: inner.state() };
         Ok(Viewer { inner: Rc::new(RefCell::new(inner)), queue: Rc::new(RefCell::new(queue)) })
     }
 
@@ -256,41 +251,42 @@ impl Viewer {
         }
     }
 
-    /// Changes settings; unknown keys are an error (a typo should not pass silently).
-    /// Keys: `paused`, `time` (animation seconds), `speed`, `clip`, `distanceMode`
-    /// (`"dolly"|"manual"`), `distance` (× framing distance), `dollyPeriod`, `yaw` (degrees),
-    /// `pitch` (degrees, clamped to ±85), `pan` (`[x, y]`, × framing distance, moves the point
-    /// looked at along the view's right and up), `resetCamera` (`true`: yaw, pitch, pan and the
-    /// manual distance back to their defaults, before the call's other keys),
-    /// `tolerance` (pixels), `hysteresis` (fraction), `transition` (`"time"|"distance"`),
-    /// `duration` (seconds per level), `zone` (fraction), `variant`
-    /// (`"naive"|"opaque-first"|"dither"`), `methods` (one to three of
-    /// `"popping"|"alpha"|"geomorph"`: the views, in order), `continuousTriangles` (number, or null
-    /// for off), `overlay` (`"none"|"wireframe"|"levels"|"skeleton"`: triangle edges, a colour per level,
-    /// or the bones of the current pose, on every view).
-    /// `transitionSpeed` (0.01–1: slow motion of the transitions alone), `magnify` (1–16: screen
-    /// lengths enlarged about the point looked at; levels are still chosen for the real size).
+    /// Changes settings: any keys of [`ViewerSettings`] (the README lists them, and
+    /// `www/clod-viewer.d.ts` types them); unknown keys are an error (a typo should not pass
+    /// silently).
     ///
     /// # Errors
-    /// A message naming the first unknown key or bad value; nothing is changed then.
+    /// A message naming the first unknown key or bad value and what it accepts; nothing is
+    /// changed then.
     #[wasm_bindgen(js_name = setState)]
     pub fn set_state(&self, state: JsValue) -> Result<(), JsError> {
         let clips = self.queue.borrow().clips.clone();
-        let update = settings::parse_update(&state, &clips).map_err(|e| JsError::new(&e))?;
-        match self.inner.try_borrow_mut() {
-            Ok(mut inner) => inner.apply(update),
-            Err(_) => self.queue.borrow_mut().updates.push(update),
-        }
+        let settings: ViewerSettings =
+            read("setState", state, "{ paused: true }").map_err(|e| JsError::new(&e))?;
+        self.push(settings.update(&clips).map_err(|e| JsError::new(&e))?);
         Ok(())
     }
 
-    /// What the views show, for the page: `{ backend, adapter, levels: [{triangles, error}],
-    /// switch (each level's switch distance, × framing), selected, distance (× framing),
-    /// stacked, views: [{method, level, to, t, triangles, rect}], frames, errors, warnings, ... }`
-    /// (see `Inner::state_json`). Every view reports the same `level`, `to` and `t`: the
+    /// Applies the `<clod-viewer>` attribute `name` with `value` (`null` or `undefined`: the
+    /// attribute is absent) as [`crate::js_api::attributes::attribute_update`] reads it.
+    ///
+    /// # Errors
+    /// A sentence quoting the attribute and saying what it takes; nothing is changed then.
+    #[wasm_bindgen(js_name = applyAttribute)]
+    pub fn apply_attribute(&self, name: &str, value: Option<String>) -> Result<(), JsError> {
+        let clips = self.queue.borrow().clips.clone();
+        let update = crate::js_api::attributes::attribute_update(name, value.as_deref(), &clips)
+            .map_err(|e| JsError::new(&e))?;
+        self.push(update);
+        Ok(())
+    }
+
+    /// What the views show, for the page: a [`ViewerState`] (`{ backend, adapter, levels,
+    /// switch, selected, distance, stacked, views: [{method, level, to, t, triangles, rect}],
+    /// frames, errors, warnings, ... }`). Every view reports the same `level`, `to` and `t`: the
     /// transition they all show. While a measurement holds the viewer: the last state read.
     pub fn state(&self) -> Result<JsValue, JsError> {
-        let json = match self.lock() {
+        let state = match self.lock() {
             Some(mut inner) => {
                 // Each problem once, however often the GPU repeats it.
                 for error in inner.renderer.take_errors() {
@@ -298,13 +294,13 @@ impl Viewer {
                         inner.errors.push(error);
                     }
                 }
-                let json = inner.state_json();
-                self.queue.borrow_mut().last_state.clone_from(&json);
-                json
+                let state = inner.state();
+                self.queue.borrow_mut().last_state.clone_from(&state);
+                state
             }
             None => self.queue.borrow().last_state.clone(),
         };
-        js_sys::JSON::parse(&json).map_err(|_| JsError::new("state is not JSON"))
+        to_js(&state)
     }
 
     /// Attaches the LOD chain of this same file once it is ready (`Character.buildClodBytes` in a
@@ -353,14 +349,12 @@ impl Viewer {
 
     /// The live meter's recent samples (about the last ten seconds of frames) for a strip chart:
     /// `{ methods: [name per view], samples: [[seconds, transitionRunning, silhouette %,
-    /// shading, … per view]] }`. While a measurement holds the viewer: empty.
+    /// shading, … per view]], steps: [[silhouette %, shading, … per view]], flip: [[FLIP, FLIP of
+    /// the step, … per view]] }` ([`crate::js_api::viewer_state::MeterHistory`]). While a
+    /// measurement holds the viewer: empty.
     #[wasm_bindgen(js_name = meterHistory)]
     pub fn meter_history(&self) -> Result<JsValue, JsError> {
-        let json = self.lock().map_or_else(
-            || "{\"methods\":[],\"samples\":[],\"steps\":[],\"flip\":[]}".into(),
-            |inner| inner.meter_history_json(),
-        );
-        js_sys::JSON::parse(&json).map_err(|_| JsError::new("meter history is not JSON"))
+        to_js(&self.lock().map_or_else(Default::default, |inner| inner.meter_history()))
     }
 
     /// Draws the current frame again offscreen and resolves to `{ width, height, data }` (RGBA8,
@@ -445,14 +439,12 @@ impl Viewer {
             let Some(map) = map else { return Ok(JsValue::NULL) };
             let stats = crate::render::flip::FlipStats::of(&map);
             let max = map.iter().copied().fold(0.0f32, f32::max);
-            let json = format!(
-                "{{\"mean\":{},\"p99\":{},\"max\":{},\"ppd\":{}}}",
-                state::num(stats.mean),
-                state::num(stats.p99),
-                state::num(max),
-                state::num(ppd)
-            );
-            js_sys::JSON::parse(&json)
+            Ok(to_js(&FlipResult {
+                mean: Num(stats.mean),
+                p99: Num(stats.p99),
+                max: Num(max),
+                ppd: Num(ppd),
+            })?)
         })
     }
 
@@ -471,6 +463,14 @@ impl Viewer {
 use bytemuck::Zeroable;
 
 impl Viewer {
+    /// Applies `update` now, or at the next frame while a measurement or readback holds the viewer.
+    fn push(&self, update: Update) {
+        match self.inner.try_borrow_mut() {
+            Ok(mut inner) => inner.apply(update),
+            Err(_) => self.queue.borrow_mut().updates.push(update),
+        }
+    }
+
     /// The viewer with the calls queued while it was busy applied, or `None` while busy.
     fn lock(&self) -> Option<RefMut<'_, Inner>> {
         let mut inner = self.inner.try_borrow_mut().ok()?;

@@ -12,13 +12,13 @@
 
 use wasm_bindgen::prelude::*;
 
-use crate::js_options::entries;
-
-use super::state::{json_str, num};
 use super::{wait_for, Inner, Viewer};
+use crate::js_api::read::{read, to_js, Number, OneOf};
+use crate::js_api::viewer_settings::SpikeOptions;
+use crate::js_api::viewer_state::{Num, PopSpike, SpikeView};
 use crate::render::pop_spike::SpikeMeter;
 use crate::render::schedule::{Schedule, Transition};
-use crate::render::viewer::settings::{method_name, variant_name, DistanceMode};
+use crate::render::viewer::settings::{method_name, DistanceMode};
 
 /// Frames of a measurement by default: the transition gets 48 of them. A geomorph's frame change
 /// does not shrink as 1/frames (8-bit rounding of the slowly changing shading flips pixels every
@@ -35,7 +35,7 @@ const DEFAULT_AT: f32 = 1.0;
 const FRAME_SECONDS: f64 = 1.0 / 60.0;
 
 /// What `measurePopSpike` was asked for.
-struct SpikeOptions {
+struct SpikeRequest {
     /// The level switched to (from `level − 1`).
     level: usize,
     frames: u32,
@@ -43,30 +43,29 @@ struct SpikeOptions {
     at: f32,
 }
 
-/// Reads the options: `level` (default the coarsest: the biggest change of shape), `frames`,
-/// `sweep`, `at`; unknown keys are an error.
-fn parse_options(options: &JsValue, levels: usize) -> Result<SpikeOptions, String> {
+/// Reads the options ([`SpikeOptions`]): `level` (default the coarsest: the biggest change of
+/// shape), `frames`, `sweep`, `at`; unknown keys are an error.
+fn parse_options(options: JsValue, levels: usize) -> Result<SpikeRequest, String> {
+    const CALL: &str = "measurePopSpike";
     if levels < 2 {
         return Err("the viewer has one level only: there is no change of level to measure".into());
     }
-    let mut out =
-        SpikeOptions { level: levels - 1, frames: DEFAULT_FRAMES, sweep: DEFAULT_SWEEP, at: DEFAULT_AT };
-    if options.is_undefined() || options.is_null() {
-        return Ok(out);
-    }
-    for (key, v) in
-        entries(options, "measurePopSpike", &["level", "frames", "sweep", "at"], "{ level: 3, frames: 48 }")?
-    {
-        match key.as_str() {
-            "level" => out.level = v.number(1.0, (levels - 1) as f64)?.round() as usize,
-            // At least 8 frames so the transition spans several; at most 600 (10 s of 60 Hz).
-            "frames" => out.frames = v.number(8.0, 600.0)?.round() as u32,
-            "sweep" => out.sweep = v.number(1e-4, 0.5)? as f32,
-            "at" => out.at = v.number(0.5, 50.0)? as f32,
-            _ => unreachable!("entries() checked the key"),
-        }
-    }
-    Ok(out)
+    let o: SpikeOptions = if options.is_undefined() || options.is_null() {
+        SpikeOptions::default()
+    } else {
+        read(CALL, options, "{ level: 3, frames: 48 }")?
+    };
+    let within = |n: Option<Number>, key, lo, hi, default: f64| match n {
+        Some(n) => n.within(CALL, key, lo, hi),
+        None => Ok(default),
+    };
+    Ok(SpikeRequest {
+        level: within(o.level, "level", 1.0, (levels - 1) as f64, (levels - 1) as f64)?.round() as usize,
+        // At least 8 frames so the transition spans several; at most 600 (10 s of 60 Hz).
+        frames: within(o.frames, "frames", 8.0, 600.0, DEFAULT_FRAMES.into())?.round() as u32,
+        sweep: within(o.sweep, "sweep", 1e-4, 0.5, DEFAULT_SWEEP.into())? as f32,
+        at: within(o.at, "at", 0.5, 50.0, DEFAULT_AT.into())? as f32,
+    })
 }
 
 #[wasm_bindgen]
@@ -91,19 +90,19 @@ impl Viewer {
         wasm_bindgen_futures::future_to_promise(async move {
             let mut guard = wait_for(&inner).await;
             let options =
-                parse_options(&options, guard.lod.levels.len()).map_err(|e| JsValue::from_str(&e))?;
+                parse_options(options, guard.lod.levels.len()).map_err(|e| JsValue::from_str(&e))?;
             let saved = (guard.model.clone(), guard.last_now_ms);
             let result = guard.measure(&options).await;
             (guard.model, guard.last_now_ms) = saved;
-            let json = result.map_err(|e| JsValue::from_str(&e))?;
-            js_sys::JSON::parse(&json)
+            let spike = result.map_err(|e| JsValue::from_str(&e))?;
+            Ok(to_js(&spike)?)
         })
     }
 }
 
 impl Inner {
-    /// Runs the measurement (see the module docs) and returns its result as JSON.
-    async fn measure(&mut self, o: &SpikeOptions) -> Result<String, String> {
+    /// Runs the measurement (see the module docs).
+    async fn measure(&mut self, o: &SpikeRequest) -> Result<PopSpike, String> {
         let k = o.level;
         let current = self.model.switch_distances()[k];
         if !(current.is_finite() && current > 0.0) {
@@ -145,39 +144,33 @@ impl Inner {
         if self.model.plans.iter().any(|p| p.transition.is_running()) {
             return Err(format!("the transition to level {k} did not end within {} frames", o.frames));
         }
-        Ok(self.spike_json(o, &meter, duration))
+        Ok(self.spike(o, &meter, duration))
     }
 
-    fn spike_json(&self, o: &SpikeOptions, meter: &SpikeMeter, duration: f64) -> String {
+    fn spike(&self, o: &SpikeRequest, meter: &SpikeMeter, duration: f64) -> PopSpike {
         let largest = meter.largest();
         let names = self.model.settings.methods.map(method_name);
         let by_method = |name: &str| {
             let values = (0..3).filter(|&i| names[i] == name).map(|i| largest[i]);
-            values.reduce(f32::max).map_or("null".to_string(), num)
+            values.reduce(f32::max).map(Num)
         };
-        let views: Vec<String> = (0..3)
-            .map(|i| {
-                let series: Vec<String> = meter.series[i].iter().map(|&x| num(x)).collect();
-                format!(
-                    "{{\"method\":{},\"largest\":{},\"series\":[{}]}}",
-                    json_str(names[i]),
-                    num(largest[i]),
-                    series.join(",")
-                )
-            })
-            .collect();
-        format!(
-            "{{\"popping\":{},\"alpha\":{},\"geomorph\":{},\"variant\":{},\"level\":{},\"frames\":{},\"at\":{},\"sweep\":{},\"duration\":{},\"views\":[{}]}}",
-            by_method("popping"),
-            by_method("alpha"),
-            by_method("geomorph"),
-            json_str(variant_name(self.model.settings.variant)),
-            o.level,
-            o.frames,
-            num(o.at),
-            num(o.sweep),
-            num(duration as f32),
-            views.join(",")
-        )
+        PopSpike {
+            popping: by_method("popping"),
+            alpha: by_method("alpha"),
+            geomorph: by_method("geomorph"),
+            variant: OneOf(self.model.settings.variant),
+            level: o.level,
+            frames: o.frames,
+            at: Num(o.at),
+            sweep: Num(o.sweep),
+            duration: Num(duration as f32),
+            views: (0..3)
+                .map(|i| SpikeView {
+                    method: names[i],
+                    largest: Num(largest[i]),
+                    series: meter.series[i].iter().map(|&x| Num(x)).collect(),
+                })
+                .collect(),
+        }
     }
 }

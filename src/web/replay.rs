@@ -1,21 +1,16 @@
 //! `viewer.replay()`: the last transition's film strip ([`crate::render::replay`]) and each
-//! view's per-frame curves from the live meter's samples, as a JavaScript object (the crops as
-//! `Uint8Array`s, so no picture goes through JSON).
+//! view's per-frame curves from the live meter's samples, as a
+//! [`crate::js_api::viewer_state::Replay`] (the crops reach JavaScript as `Uint8Array`s, so no
+//! picture goes through JSON).
 
 use wasm_bindgen::prelude::*;
 
 use super::{Inner, Viewer};
+use crate::js_api::read::to_js;
+use crate::js_api::viewer_state::{Replay, ReplayCurves, ReplayFrame, Rgba8};
 use crate::render::meter::MeterSample;
 use crate::render::replay::{change, replay_side, RecordedFrame};
 use crate::render::viewer::settings::method_name;
-
-fn set(object: &js_sys::Object, key: &str, value: impl Into<JsValue>) {
-    let _ = js_sys::Reflect::set(object, &key.into(), &value.into());
-}
-
-fn numbers(values: impl IntoIterator<Item = f64>) -> js_sys::Array {
-    values.into_iter().map(JsValue::from_f64).collect()
-}
 
 impl Inner {
     /// Feeds the replay with a measured frame: each view's picture, and where the largest step
@@ -48,57 +43,52 @@ impl Viewer {
     /// flip, stepSilhouette, stepFlip } }`: the curves hold every measured frame from the one
     /// before the transition to the one after, per view (silhouette in % of the view, shading in
     /// mean |ΔRGB|, FLIP 0..1; `step…` against the view's control).
-    pub fn replay(&self) -> JsValue {
-        let Some(inner) = self.lock() else { return JsValue::NULL };
-        let Some(replay) = &inner.replay.last else { return JsValue::NULL };
-        let out = js_sys::Object::new();
-        let methods = &inner.model.settings.methods[..inner.model.settings.view_count];
-        set(
-            &out,
-            "methods",
-            methods.iter().map(|m| JsValue::from_str(method_name(*m))).collect::<js_sys::Array>(),
-        );
-        set(&out, "levels", numbers([replay.levels.0 as f64, replay.levels.1 as f64]));
-        set(&out, "size", numbers([inner.replay.size().0 as f64, inner.replay.size().1 as f64]));
-        set(&out, "region", numbers(replay.region.map(f64::from)));
-        let frames = js_sys::Array::new();
-        for f in &replay.frames {
-            let item = js_sys::Object::new();
-            set(&item, "frame", f.frame as f64);
-            set(&item, "time", f.time);
-            set(&item, "t", f64::from(f.transition.t));
-            let views: js_sys::Array =
-                f.views.iter().map(|v| JsValue::from(js_sys::Uint8Array::from(v.as_slice()))).collect();
-            set(&item, "views", views);
-            frames.push(&item);
+    pub fn replay(&self) -> Result<JsValue, JsError> {
+        let Some(inner) = self.lock() else { return Ok(JsValue::NULL) };
+        match inner.replay() {
+            Some(replay) => to_js(&replay),
+            None => Ok(JsValue::NULL),
         }
-        set(&out, "frames", frames);
+    }
+}
+
+impl Inner {
+    /// The last transition's replay, `None` before one completed.
+    fn replay(&self) -> Option<Replay> {
+        let replay = self.replay.last.as_ref()?;
+        let methods = &self.model.settings.methods[..self.model.settings.view_count];
         let (first, last) = replay.span;
         let samples: Vec<&MeterSample> =
-            inner.meter.history.iter().filter(|s| s.frame >= first && s.frame <= last).collect();
-        let curves = js_sys::Object::new();
-        set(&curves, "frame", numbers(samples.iter().map(|s| s.frame as f64)));
-        set(&curves, "time", numbers(samples.iter().map(|s| s.time)));
-        set(
-            &curves,
-            "running",
-            samples.iter().map(|s| JsValue::from_bool(s.transition.is_running())).collect::<js_sys::Array>(),
-        );
-        let per_view = |f: &dyn Fn(&MeterSample, usize) -> f32| -> js_sys::Array {
-            (0..methods.len())
-                .map(|i| JsValue::from(numbers(samples.iter().map(|s| f64::from(f(s, i))))))
-                .collect()
+            self.meter.history.iter().filter(|s| s.frame >= first && s.frame <= last).collect();
+        let per_view = |f: &dyn Fn(&MeterSample, usize) -> f32| -> Vec<Vec<f64>> {
+            (0..methods.len()).map(|i| samples.iter().map(|s| f64::from(f(s, i))).collect()).collect()
         };
-        set(&curves, "silhouette", per_view(&|s, i| 100.0 * s.views.get(i).map_or(0.0, |v| v.silhouette)));
-        set(&curves, "shading", per_view(&|s, i| s.views.get(i).map_or(0.0, |v| v.shading)));
-        set(&curves, "flip", per_view(&|s, i| s.views.get(i).map_or(0.0, |v| v.flip)));
-        set(
-            &curves,
-            "stepSilhouette",
-            per_view(&|s, i| 100.0 * s.steps.get(i).map_or(0.0, |v| v.silhouette)),
-        );
-        set(&curves, "stepFlip", per_view(&|s, i| s.steps.get(i).map_or(0.0, |v| v.flip)));
-        set(&out, "curves", curves);
-        out.into()
+        let (width, height) = self.replay.size();
+        Some(Replay {
+            methods: methods.iter().map(|m| method_name(*m)).collect(),
+            levels: [replay.levels.0, replay.levels.1],
+            size: [width, height],
+            region: replay.region,
+            frames: replay
+                .frames
+                .iter()
+                .map(|f| ReplayFrame {
+                    frame: f.frame,
+                    time: f.time,
+                    t: f64::from(f.transition.t),
+                    views: f.views.iter().map(|v| Rgba8(v.clone())).collect(),
+                })
+                .collect(),
+            curves: ReplayCurves {
+                frame: samples.iter().map(|s| s.frame).collect(),
+                time: samples.iter().map(|s| s.time).collect(),
+                running: samples.iter().map(|s| s.transition.is_running()).collect(),
+                silhouette: per_view(&|s, i| 100.0 * s.views.get(i).map_or(0.0, |v| v.silhouette)),
+                shading: per_view(&|s, i| s.views.get(i).map_or(0.0, |v| v.shading)),
+                flip: per_view(&|s, i| s.views.get(i).map_or(0.0, |v| v.flip)),
+                step_silhouette: per_view(&|s, i| 100.0 * s.steps.get(i).map_or(0.0, |v| v.silhouette)),
+                step_flip: per_view(&|s, i| s.steps.get(i).map_or(0.0, |v| v.flip)),
+            },
+        })
     }
 }

@@ -291,7 +291,7 @@ test('a URL value that does not fit the model shown is ignored and said so', asy
   const page = await openPage(browser, { clip: 'clip 0' }, SMALL_VIEWPORT);
   const state = await frame(page, 1000, {});
   assert.equal(state.clips[state.clip], 'Walk', 'the built-in character plays its first clip');
-  assert.match(await page.locator('#status').textContent(), /Ignored from the URL: clip: no clip "clip 0"/);
+  assert.match(await page.locator('#status').textContent(), /Ignored from the URL: clip="clip 0": no clip of that name; this character has "Walk", "Wave", "Crouch"/);
 });
 
 test('a phone-sized window stacks the views and draws all three', async () => {

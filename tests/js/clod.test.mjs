@@ -65,6 +65,11 @@ test('buildClod options: poses, explicit levels, half-edge mode, and clear error
   assert.throws(() => fox.buildClod({ maxError: 0 }), /maxError/);
   assert.throws(() => fox.buildClod({ maxError: 'low' }), /maxError/);
   assert.throws(() => fox.buildClod({ schedule: 'fast' }), /schedule must be/);
+  // An unknown or ill-typed key names the key and what it takes.
+  assert.throws(() => fox.buildClod({ level: [100] }), /^Error: buildClod: unknown field `level`, expected one of `pose`, `levels`, /);
+  assert.throws(() => fox.buildClod({ levels: [400, 'many'] }), /^Error: buildClod: levels\[1\] must be a whole number of triangles ≥ 1, got "many"$/);
+  assert.throws(() => fox.buildClod({ pose: { clip: 'Walk' } }), /^Error: buildClod: pose must be \{ clip, time \}/);
+  assert.throws(() => fox.buildClod('bind'), /^Error: buildClod takes an object/);
   // The strict order is the default; batched passes give a valid chain of the same levels.
   const strict = fox.buildClod({ levels: [400, 200, 100], schedule: 'strict' });
   const passes = fox.buildClod({ levels: [400, 200, 100], schedule: 'passes' });

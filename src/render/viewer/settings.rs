@@ -1,6 +1,6 @@
 //! The viewer's settings, the changes one `setState` asks for, and the names the page and
 //! JavaScript use for methods, variants and overlays (one vocabulary, parsed and reported alike).
-//! Pure data: the JavaScript reader is `src/web/settings.rs`.
+//! Pure data: the JavaScript reader is `src/js_api/viewer_settings.rs`.
 
 use crate::render::camera;
 use crate::render::overlay::Overlay;

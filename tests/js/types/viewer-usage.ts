@@ -1,7 +1,7 @@
 // How a documentation page in TypeScript uses the element: compiled (never run) against
 // www/clod-viewer.d.ts by tests/js/dts.test.mjs, so a declaration that is wrong or missing
 // fails there.
-import { parseModes, type ClodViewerElement, type ViewerState } from '../../../www/clod-viewer.js';
+import type { ClodViewerElement, ViewerState } from '../../../www/clod-viewer.js';
 
 const viewer: ClodViewerElement | null = document.querySelector('clod-viewer');
 if (viewer) {
@@ -13,7 +13,7 @@ if (viewer) {
   });
   viewer.addEventListener('error', (e) => console.error(e.detail.message));
   viewer.addEventListener('meter', (e) => console.log(e.detail.geomorph?.silhouette));
-  viewer.setState({ methods: parseModes('pop morph'), variant: 'dither', tolerance: 4, pan: [0.1, 0], continuousTriangles: null });
+  viewer.setState({ methods: ['popping', 'geomorph'], variant: 'dither', tolerance: 4, pan: [0.1, 0], continuousTriangles: null });
   viewer.pause();
   viewer.setTime(1.2);
   const state = viewer.state();

@@ -4,14 +4,57 @@
 //! JavaScript `Error` whose message names the problem; nothing here panics on user input.
 //! Typed arrays are copies: JavaScript may keep them after the `Character` is freed.
 
+pub mod attributes;
+pub mod build_options;
+pub mod read;
+#[cfg(test)]
+mod samples;
+pub mod viewer_settings;
+pub mod viewer_state;
+
 use std::rc::Rc;
 
 use wasm_bindgen::prelude::*;
 
 use crate::character::Character as CoreCharacter;
-use crate::clod::{self, ClodOptions, SimplificationPose, WeightRule};
+use crate::clod::{self, ClodOptions};
 use crate::import;
-use crate::simplify::{CollapseMode, Schedule};
+use build_options::BuildOptions;
+
+/// A Rust resolver over a JS `resolve(name) → Uint8Array | ArrayBuffer | null` (none when
+/// `resolve` is `None`), asking it for a URI's path and then for its last segment
+/// ([`crate::import::by_path_or_name`]): a `.gltf`'s files dropped with it are found by name.
+pub fn resolver(resolve: Option<&js_sys::Function>) -> impl FnMut(&str) -> Option<Vec<u8>> + '_ {
+    crate::import::by_path_or_name(move |name: &str| {
+        let value = resolve?.call1(&JsValue::NULL, &JsValue::from_str(name)).ok()?;
+        let bytes =
+            value.is_instance_of::<js_sys::Uint8Array>() || value.is_instance_of::<js_sys::ArrayBuffer>();
+        bytes.then(|| js_sys::Uint8Array::new(&value).to_vec())
+    })
+}
+
+/// The type of `buildClod`'s options in the generated `.d.ts` (the fields of
+/// [`BuildOptions`]; `tests/js/dts.test.mjs` checks it against their serialization).
+#[wasm_bindgen(typescript_custom_section)]
+const BUILD_OPTIONS_TS: &str = r#"
+/** `buildClod(options)` and `buildClodBytes(options)`: every key optional; an unknown key or a bad value throws. */
+export interface BuildOptions {
+  /** The simplification pose: `'multi'` (default: quadrics over frames of every clip), `'mid-clip'`, `'bind'`, or one clip frame. */
+  pose?: 'multi' | 'mid-clip' | 'bind' | { clip: string; time: number };
+  /** Decreasing triangle counts of the levels (whole numbers ≥ 1). */
+  levels?: number[];
+  /** `'full'` (default: optimal placement) or `'halfedge'`. */
+  mode?: 'full' | 'halfedge';
+  /** Skin weights of new vertices: `'blend'` (default) or `'survivor'`. */
+  weights?: 'blend' | 'survivor';
+  /** `'strict'` (default: cheapest collapse first) or `'passes'` (batched, faster). */
+  schedule?: 'strict' | 'passes';
+  /** The floor, a positive fraction of the bounding-box diagonal (default 0.05; `Infinity`: as far as the topology allows). */
+  maxError?: number;
+  /** Called with fractions from 0 to 1. */
+  onProgress?: (fraction: number) => void;
+}
+"#;
 
 /// Installs the panic hook that prints Rust panics to the console (called once on load).
 #[wasm_bindgen(start)]
@@ -45,7 +88,7 @@ impl Character {
     /// Throws an `Error` naming the problem (including a URI the resolver could not supply).
     #[wasm_bindgen(js_name = fromGltf)]
     pub fn from_gltf(json: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
-        let mut resolver = crate::js_options::resolver(Some(resolve));
+        let mut resolver = resolver(Some(resolve));
         let inner = import::from_gltf(json, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
@@ -57,7 +100,7 @@ impl Character {
     /// Throws an `Error` naming the problem.
     #[wasm_bindgen(js_name = fromBytes)]
     pub fn from_bytes(bytes: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
-        let mut resolver = crate::js_options::resolver(Some(resolve));
+        let mut resolver = resolver(Some(resolve));
         let inner = import::from_bytes(bytes, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
@@ -178,8 +221,11 @@ impl Character {
     ///
     /// Throws on malformed options (naming the option) or a mesh that cannot be simplified.
     #[wasm_bindgen(js_name = buildClod)]
-    pub fn build_clod(&self, options: JsValue) -> Result<Clod, JsError> {
-        let (options, on_progress) = parse_clod_options(&options, &self.inner)?;
+    pub fn build_clod(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "BuildOptions | undefined")] options: JsValue,
+    ) -> Result<Clod, JsError> {
+        let (options, on_progress) = parse_clod_options(options, &self.inner)?;
         let started = now_ms();
         let mut progress = |fraction: f32| {
             if let Some(f) = &on_progress {
@@ -202,8 +248,13 @@ impl Character {
     /// Throws on malformed options, an `onProgress` that is not a function, or a mesh that cannot
     /// be simplified.
     #[wasm_bindgen(js_name = buildClodBytes)]
-    pub fn build_clod_bytes(&self, options: JsValue, on_progress: JsValue) -> Result<Vec<u8>, JsError> {
-        let (options, from_options) = parse_clod_options(&options, &self.inner)?;
+    pub fn build_clod_bytes(
+        &self,
+        #[wasm_bindgen(unchecked_param_type = "BuildOptions | undefined")] options: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "((fraction: number) => void) | undefined")]
+        on_progress: JsValue,
+    ) -> Result<Vec<u8>, JsError> {
+        let (options, from_options) = parse_clod_options(options, &self.inner)?;
         let on_progress = if on_progress.is_undefined() || on_progress.is_null() {
             from_options
         } else {
@@ -349,99 +400,20 @@ impl Clod {
     }
 }
 
-/// Reads `buildClod`'s options object; see [`Character::build_clod`].
+/// Reads `buildClod`'s options object (see [`Character::build_clod`]): the core's options and
+/// the progress callback, if any.
 fn parse_clod_options(
-    options: &JsValue,
+    options: JsValue,
     character: &CoreCharacter,
 ) -> Result<(ClodOptions, Option<js_sys::Function>), JsError> {
-    let mut out = ClodOptions::default();
-    if options.is_undefined() || options.is_null() {
-        return Ok((out, None));
-    }
-    let get =
-        |key: &str| js_sys::Reflect::get(options, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
-    let pose = get("pose");
-    if let Some(name) = pose.as_string() {
-        out.pose = match name.as_str() {
-            "bind" => SimplificationPose::Bind,
-            "multi" => {
-                SimplificationPose::MultiPose { frames_per_clip: clod::poses::DEFAULT_FRAMES_PER_CLIP }
-            }
-            "mid-clip" => SimplificationPose::MidClip,
-            other => {
-                return Err(JsError::new(&format!(
-                    "pose must be 'bind', 'multi', 'mid-clip' or {{ clip, time }}, got {other:?}"
-                )))
-            }
-        };
-    } else if pose.is_object() {
-        let clip = js_sys::Reflect::get(&pose, &"clip".into()).ok().and_then(|c| c.as_string());
-        let time = js_sys::Reflect::get(&pose, &"time".into()).ok().and_then(|t| t.as_f64());
-        let (Some(clip), Some(time)) = (clip, time) else {
-            return Err(JsError::new("pose { clip, time } needs a clip name and a time in seconds"));
-        };
-        if character.clip(&clip).is_none() {
-            return Err(unknown_clip(character, &clip));
-        }
-        out.pose = SimplificationPose::ClipFrame { clip, time: time as f32 };
-    } else if !pose.is_undefined() {
-        return Err(JsError::new("pose must be 'bind', 'multi', 'mid-clip' or { clip, time }"));
-    }
-    let levels = get("levels");
-    if !levels.is_undefined() {
-        let array: &js_sys::Array =
-            levels.dyn_ref().ok_or_else(|| JsError::new("levels must be an array of triangle counts"))?;
-        let counts = array
-            .iter()
-            .map(|v| match v.as_f64() {
-                Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= u32::MAX as f64 => Ok(n as usize),
-                _ => {
-                    Err(JsError::new(&format!("levels must hold positive whole triangle counts, got {v:?}")))
-                }
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        out.level_triangles = Some(counts);
-    }
-    match get("mode").as_string().as_deref() {
-        None if get("mode").is_undefined() => {}
-        Some("full") => out.mode = CollapseMode::Full,
-        Some("halfedge") => out.mode = CollapseMode::HalfEdge,
-        _ => return Err(JsError::new("mode must be 'full' or 'halfedge'")),
-    }
-    match get("weights").as_string().as_deref() {
-        None if get("weights").is_undefined() => {}
-        Some("survivor") => out.weights = WeightRule::Survivor,
-        Some("blend") => out.weights = WeightRule::Blend,
-        _ => return Err(JsError::new("weights must be 'survivor' or 'blend'")),
-    }
-    match get("schedule").as_string().as_deref() {
-        None if get("schedule").is_undefined() => {}
-        Some("strict") => out.schedule = Schedule::Strict,
-        Some("passes") => out.schedule = Schedule::Passes,
-        _ => return Err(JsError::new("schedule must be 'strict' or 'passes'")),
-    }
-    let max_error = get("maxError");
-    if !max_error.is_undefined() {
-        match max_error.as_f64() {
-            Some(e) if e > 0.0 => out.max_relative_error = e as f32,
-            _ => {
-                return Err(JsError::new(&format!(
-                    "maxError must be a positive fraction of the diagonal, got {max_error:?}"
-                )))
-            }
-        }
-    }
-    let on_progress = get("onProgress");
-    let on_progress = if on_progress.is_undefined() {
-        None
+    let options: BuildOptions = if options.is_undefined() || options.is_null() {
+        BuildOptions::default()
     } else {
-        Some(
-            on_progress
-                .dyn_into::<js_sys::Function>()
-                .map_err(|_| JsError::new("onProgress must be a function"))?,
-        )
+        read::read("buildClod", options, "{ levels: [4000, 1000], pose: 'multi' }")
+            .map_err(|e| JsError::new(&e))?
     };
-    Ok((out, on_progress))
+    let clod = options.clod_options(character).map_err(|e| JsError::new(&e))?;
+    Ok((clod, options.on_progress.map(|c| c.0)))
 }
 
 /// `time_seconds` as `f32`, or the error every timed call throws.
@@ -453,8 +425,13 @@ fn finite_time(time_seconds: f64) -> Result<f32, JsError> {
 }
 
 fn unknown_clip(character: &CoreCharacter, name: &str) -> JsError {
+    JsError::new(&unknown_clip_message(character, name))
+}
+
+/// "no clip named "Dance"; this character has ["Walk", "Wave"]".
+fn unknown_clip_message(character: &CoreCharacter, name: &str) -> String {
     let names: Vec<&str> = character.clips.iter().map(|c| c.name.as_str()).collect();
-    JsError::new(&format!("no clip named {name:?}; this character has {names:?}"))
+    format!("no clip named {name:?}; this character has {names:?}")
 }
 
 fn set(object: &js_sys::Object, key: &str, value: JsValue) -> Result<(), JsError> {
