@@ -16,6 +16,7 @@ fi
 
 build_wasm web
 build_wasm webgl
+build_wasm draco
 node scripts/page-size.mjs
 
 log="$(mktemp)"

@@ -1,4 +1,5 @@
-// Reads one value from wasm-pack.toml, the project's build manifest: `node scripts/manifest.mjs web.out-dir`.
+// Reads one value from wasm-pack.toml, the project's build manifest: `node scripts/manifest.mjs web.out-dir`
+// (`node scripts/manifest.mjs web.crate .` prints `.` when the key is absent).
 // The manifest uses a small TOML subset (sections, `key = "string" | number | bool`, comments), which this parses.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
@@ -22,7 +23,11 @@ export function readManifest(path = join(dirname(fileURLToPath(import.meta.url))
 
 if (process.argv[1] === fileURLToPath(import.meta.url)) {
   const manifest = readManifest();
-  const key = process.argv[2];
+  const [key, fallback] = process.argv.slice(2);
+  if (!(key in manifest) && fallback !== undefined) {
+    console.log(fallback);
+    process.exit(0);
+  }
   if (!(key in manifest)) {
     console.error(`wasm-pack.toml has no ${key}; keys: ${Object.keys(manifest).join(', ')}`);
     process.exit(2);

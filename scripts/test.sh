@@ -69,6 +69,8 @@ node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
 step "JavaScript API from node (the WebGPU page's release wasm, bound for node)"
 build_wasm web
 node_from_web
+# The page's builds link no Draco decoder: tests/js/draco.test.mjs hands the import this module.
+build_wasm draco
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
 

@@ -5,7 +5,7 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-manifest() { node "$root/scripts/manifest.mjs" "$1"; }
+manifest() { node "$root/scripts/manifest.mjs" "$@"; }
 export PATH="$HOME/.cargo/bin:$PATH"
 
 ensure_rust_target() {
@@ -79,12 +79,50 @@ node_from_web() {
     "$root/target/$(manifest tools.rust-target)/release/clod_viewer.wasm"
 }
 
-# build_wasm SECTION: wasm-pack build with the target, out dir and features of wasm-pack.toml [SECTION].
+# build_wasm SECTION: wasm-pack build of the crate (`crate`, default the root) with the target, out
+# dir, features (`default-features = false` drops the crate's defaults) of wasm-pack.toml [SECTION],
+# then wasm-opt at the section's level (`wasm-opt = "-Oz"`; false: none; the environment's WASM_OPT,
+# when set, replaces it: WASM_OPT=false for a quick build, WASM_OPT=-O3 to compare levels).
 build_wasm() {
   local section="$1"
-  (cd "$root" && wasm-pack build --release --no-pack \
+  local crate; crate="$(manifest "$section.crate" .)"
+  local out; out="$root/$(manifest "$section.out-dir")"
+  local name; name="$(manifest "$section.out-name")"
+  local defaults=()
+  [ "$(manifest "$section.default-features" true)" = false ] && defaults=(--no-default-features)
+  (cd "$root/$crate" && wasm-pack build --release --no-pack \
     --target "$(manifest "$section.target")" \
-    --out-dir "$root/$(manifest "$section.out-dir")" \
-    --out-name "$(manifest "$section.out-name")" \
-    -- --features "$(manifest "$section.features")")
+    --out-dir "$out" \
+    --out-name "$name" \
+    -- "${defaults[@]}" --features "$(manifest "$section.features")")
+  local level; level="${WASM_OPT:-$(manifest "$section.wasm-opt" false)}"
+  if [ "$level" != false ]; then
+    optimize_wasm "$out/${name}_bg.wasm" "$level"
+  fi
+  if [ "$(manifest "$section.minify-js" false)" = true ]; then
+    minify_js "$out/$name.js"
+  fi
+}
+
+# minify_js FILE: terser from npm (package.json) on wasm-bindgen's JS glue, in place: names and
+# whitespace only shrink; exports, the wasm's import names and `new URL('…_bg.wasm',
+# import.meta.url)` stay as they are.
+minify_js() {
+  local file="$1"
+  ensure_npm_packages
+  "$root/node_modules/.bin/terser" --module --compress --mangle --output "$file.min" "$file"
+  mv "$file.min" "$file"
+}
+
+# optimize_wasm FILE LEVEL: binaryen's wasm-opt from npm (package.json pins it; never a binary
+# downloaded from elsewhere) on wasm-bindgen's output, in place, with the wasm features rustc
+# uses (SIMD from .cargo/config.toml, reference types for wasm-bindgen's externref table, …).
+optimize_wasm() {
+  local file="$1" level="$2"
+  ensure_npm_packages
+  "$root/node_modules/.bin/wasm-opt" "$level" \
+    --enable-simd --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
+    --enable-sign-ext --enable-mutable-globals \
+    "$file" -o "$file.opt"
+  mv "$file.opt" "$file"
 }

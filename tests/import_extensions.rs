@@ -418,3 +418,68 @@ fn a_draco_stream_that_does_not_decode_names_its_primitive() {
     let message = import(&model).expect_err("no bufferView").to_string();
     assert!(message.contains("no bufferView"), "{message}");
 }
+
+/// A build without the built-in decoder (the viewer page's) imports a Draco file with the decoder
+/// it is handed (`import::from_bytes_with`), which the separate module's answer reaches through
+/// `clod_draco`'s wire format: the import asks for the attributes the extension maps with their
+/// accessors' component counts, and builds the primitive from the answer. A decoder that gives a
+/// wrong count is an error naming the primitive.
+#[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
+#[cfg_attr(not(target_arch = "wasm32"), test)]
+fn a_draco_primitive_imports_with_the_decoder_it_is_handed() {
+    use clod_draco::{read_answer, write_answer, Attribute, Decoded, Request};
+    use clod_viewer::import::{from_bytes_with, uses_draco};
+    let mut model = TinyModel::new();
+    require(&mut model, &["KHR_draco_mesh_compression"]);
+    for accessor in 0..4 {
+        model.json["accessors"][accessor].as_object_mut().unwrap().remove("bufferView");
+    }
+    let stream = add_view(&mut model, b"DRACO stream the decoder below answers for");
+    let extension = format!(
+        r#"{{"KHR_draco_mesh_compression": {{"bufferView": {stream},
+            "attributes": {{"POSITION": 7, "JOINTS_0": 8, "WEIGHTS_0": 9}}}}}}"#
+    );
+    model.json["meshes"][0]["primitives"][0]["extensions"] =
+        gltf_json::deserialize::from_str(&extension).unwrap();
+    let gltf = model.gltf();
+    assert!(uses_draco(&gltf) && !uses_draco(&TinyModel::new().gltf()));
+    // The tiny triangle, mirrored in x, as a decoder would answer it (across the wire format).
+    let answer = |request: &Request, points: usize| {
+        let values = |id: u32, components: usize| -> Vec<f32> {
+            let all: Vec<f32> = match id {
+                7 => vec![0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                8 => vec![0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+                _ => vec![1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+            };
+            all[..points * components].to_vec()
+        };
+        let decoded = Decoded {
+            faces: vec![0, 1, 2],
+            points,
+            attributes: request
+                .attributes
+                .iter()
+                .map(|&(id, components)| Some(Attribute { float: id != 8, values: values(id, components) }))
+                .collect(),
+        };
+        read_answer(&write_answer(&Ok(decoded))).unwrap()
+    };
+    let mut asked = Vec::new();
+    let character = from_bytes_with(
+        &gltf,
+        &mut |_| None,
+        Some(&mut |_: &[u8], request: &Request| {
+            asked.push(request.attributes.clone());
+            answer(request, 3)
+        }),
+    )
+    .expect("the handed decoder's mesh");
+    let mut wanted = asked[0].clone();
+    wanted.sort();
+    assert_eq!(wanted, [(7, 3), (8, 4), (9, 4)]);
+    assert_eq!(character.mesh.positions[1], Vec3::new(-1.0, 0.0, 0.0));
+    let error =
+        from_bytes_with(&gltf, &mut |_| None, Some(&mut |_: &[u8], request: &Request| answer(request, 2)))
+            .expect_err("two points for three");
+    assert!(error.to_string().contains("meshes[0].primitives[0]"), "{error}");
+}

@@ -380,6 +380,8 @@ export class ClodViewerElement extends HTMLElement {
 export const ERROR_CODES: Record<ErrorCode, string>;
 /** Loads (once per page) the wasm build of a backend. */
 export function loadBuild(backend: 'webgpu' | 'webgl2'): Promise<{ module: unknown; url: string }>;
+/** Loads (once per page) the Draco decoder module, which only files with Draco-compressed geometry need. */
+export function loadDraco(): Promise<{ decode: (stream: Uint8Array, request: Uint32Array) => Uint8Array }>;
 /** Whether this browser hands out a WebGPU adapter. */
 export function webgpuWorks(): Promise<boolean>;
 /** A `.gltf` resolver over dropped files, by name (the wasm side asks for a URI's path, then its last segment). */

@@ -31,8 +31,11 @@ import { drawReplay } from './clod-replay.js';
 
 export { drawReplay, METHOD_COLORS } from './clod-replay.js';
 
-const here = new URL('.', import.meta.url);
-const DEFAULT_SRC = new URL('assets/character.glb', here).href;
+// Every file the element loads is named relative to this module as a literal `import('./…')` or
+// `new URL('./…', import.meta.url)`: a browser resolves them next to this file wherever a site
+// hosts it (a copy of www/, or node_modules/clod-viewer/), and bundlers (Vite, webpack, Parcel)
+// recognise the same forms and emit the files with the bundle.
+const DEFAULT_SRC = new URL('./assets/character.glb', import.meta.url).href;
 // The attributes that change the viewer's settings, in the order they are applied (the preset
 // first: an explicit tolerance attribute then overrides its threshold); the viewer reads their
 // values (`applyAttribute`), and `autoplay` is applied absent too (paused).
@@ -76,11 +79,25 @@ const builds = new Map();
 /** Loads (once) the wasm build of `backend` (`webgpu` → pkg/, `webgl2` → pkg-webgl/). */
 export function loadBuild(backend) {
   if (!builds.has(backend)) {
-    const url = new URL(backend === 'webgpu' ? 'pkg/clod_viewer.js' : 'pkg-webgl/clod_viewer.js', here).href;
-    builds.set(backend, import(url).then(async (module) => { await module.default(); return { module, url }; }));
+    const url = backend === 'webgpu' ? new URL('./pkg/clod_viewer.js', import.meta.url).href : new URL('./pkg-webgl/clod_viewer.js', import.meta.url).href;
+    const module = backend === 'webgpu' ? import('./pkg/clod_viewer.js') : import('./pkg-webgl/clod_viewer.js');
+    builds.set(backend, module.then(async (module) => { await module.default(); return { module, url }; }));
     builds.get(backend).catch(() => builds.delete(backend));
   }
   return builds.get(backend);
+}
+
+let draco = null;
+/**
+ * Loads (once) the Draco decoder (pkg-draco/, crates/clod-draco), a module of its own that only
+ * files with Draco-compressed geometry need: resolves to `{ decode, url }`.
+ */
+export function loadDraco() {
+  if (!draco) {
+    draco = import('./pkg-draco/clod_draco.js').then(async (module) => { await module.default(); return { decode: module.decode }; });
+    draco.catch(() => { draco = null; });
+  }
+  return draco;
 }
 
 let adapterCheck = null;
@@ -103,7 +120,7 @@ let nextJob = 1;
 function buildWorker() {
   if (worker || workerBroken) return worker;
   try {
-    worker = new Worker(new URL('clod-worker.js', here), { type: 'module' });
+    worker = new Worker(new URL('./clod-worker.js', import.meta.url), { type: 'module' });
   } catch {
     workerBroken = true;
     return null;
@@ -127,16 +144,17 @@ function buildWorker() {
 }
 
 /**
- * Builds the LOD chain of `source` off the main thread. Resolves to `{ clod: Uint8Array,
+ * Builds the LOD chain of `source` off the main thread with the `backend` build (the one the page
+ * loaded, from the HTTP cache), its Draco module when `draco`. Resolves to `{ clod: Uint8Array,
  * buildMs }`, or to null when no worker can run (the caller then builds inline).
  */
-function buildOffMainThread(moduleUrl, source, onProgress) {
+function buildOffMainThread(backend, draco, source, onProgress) {
   const w = buildWorker();
   if (!w) return Promise.resolve(null);
   const id = nextJob++;
   return new Promise((resolve, reject) => {
     jobs.set(id, { resolve, reject, onProgress });
-    w.postMessage({ id, moduleUrl, name: source.name, bytes: source.bytes, resources: source.resources });
+    w.postMessage({ id, backend, draco, name: source.name, bytes: source.bytes, resources: source.resources });
   }).catch((e) => { if (e.workerFailed) return null; throw e; });
 }
 
@@ -249,7 +267,7 @@ export class ClodViewerElement extends HTMLElement {
   #viewer = null;
   #backend = null;
   #visible = false;
-  #source = null; // { name, bytes, resources } of the model shown (or being loaded)
+  #source = null; // { name, bytes, resources } of the model shown (or being loaded); + draco while loading
   #pending = null; // the load in progress
   #frameId = 0;
   #progress = 0;
@@ -452,15 +470,17 @@ export class ClodViewerElement extends HTMLElement {
     let showGpu;
     const visible = new Promise((resolve) => { showGpu = resolve; });
     const pending = (async () => {
-      const { module, url, backend, fallbacks } = await this.#chooseBuild();
+      const { module, backend, fallbacks } = await this.#chooseBuild();
       this.#source ??= await this.#fetchSource(this.getAttribute('src') || DEFAULT_SRC, report);
-      const source = this.#source;
+      // Draco-compressed geometry: the decoder is a module of its own, fetched for such files only.
+      const draco = module.usesDraco(this.#source.bytes) ? await loadDraco().catch((e) => { throw coded(e, 'wasm'); }) : null;
+      const source = { ...this.#source, draco };
       report('fetch', 1);
       await visible;
       // With a worker the full mesh is drawn at once and the levels follow (#attachLevels);
       // without one, the chain is built inline before the first frame.
       const later = buildWorker() !== null;
-      const attach = (state) => { if (later) this.#attachLevels(url, source, id); return state; };
+      const attach = (state) => { if (later) this.#attachLevels(module, backend, source, id); return state; };
       try {
         return attach(await this.#createViewer(module, backend, source, later, id));
       } catch (e) {
@@ -500,11 +520,11 @@ export class ClodViewerElement extends HTMLElement {
 
   // Gets the LOD chain of the model shown (the cache, else the worker) and attaches it; fires
   // `lod` with the state. A newer load makes it stop.
-  async #attachLevels(moduleUrl, source, id) {
+  async #attachLevels(module, backend, source, id) {
     const viewer = this.#viewer;
     const current = () => this.#loadId === id && this.#viewer === viewer;
     try {
-      const key = await chainKey(source, (await import(moduleUrl)).chainCacheTag());
+      const key = await chainKey(source, module.chainCacheTag());
       const cached = key && (await cacheGet(key));
       if (cached && current()) {
         try {
@@ -513,7 +533,7 @@ export class ClodViewerElement extends HTMLElement {
           return;
         } catch { /* a stale entry: build again */ }
       }
-      const built = await buildOffMainThread(moduleUrl, source, (f) => { if (current()) this.#reportProgress('build', f); });
+      const built = await buildOffMainThread(backend, source.draco !== null, source, (f) => { if (current()) this.#reportProgress('build', f); });
       if (!current()) return;
       if (!built) throw new Error('no worker could build the LOD chain');
       await viewer.attachLod(built.clod, built.buildMs, 'build');
@@ -591,6 +611,7 @@ export class ClodViewerElement extends HTMLElement {
     canvas.width = w;
     canvas.height = h;
     const options = { backend, resolve: resolverFor(source.resources) };
+    if (source.draco) options.draco = source.draco.decode;
     if (later) options.lod = 'later';
     if (this.#loadId === id) this.#reportProgress('gpu', 0);
     let viewer;

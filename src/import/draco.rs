@@ -1,6 +1,8 @@
 //! `KHR_draco_mesh_compression`: primitives whose geometry is a Draco stream (what gltf-transform
 //! `draco`, gltf-pipeline and Blender's exporter with compression on write). Each stream is
-//! decoded with the `draco-core` crate (a pure Rust port of Google's Draco decoder) into the
+//! decoded by a [`DracoDecoder`] — the `clod-draco` crate (`crates/clod-draco`, over draco-core,
+//! a pure Rust port of Google's Draco decoder) linked in with the `draco` feature, or the same
+//! crate's separate wasm module, which the viewer page loads only for such files — into the
 //! bytes of the primitive's own accessors, in their declared component type, tightly packed:
 //! the indices from the decoded faces, and each attribute the extension maps from its semantic
 //! to a Draco attribute id. `accessor` then reads those accessors like any other, so quantized,
@@ -15,7 +17,7 @@
 //! importer's own vertex and index limits, and in bytes, all streams together, by
 //! [`MAX_EXPANSION`] times the file (at least [`MIN_BUDGET`]).
 
-use draco_core::{DecodeLimits, DecoderBuffer, ErrorKind, Mesh, MeshDecoder, PointAttribute};
+use clod_draco::{Attribute, DecodeError, Decoded, Request};
 use gltf_json::accessor::{ComponentType, GenericComponentType};
 use gltf_json::validation::Checked;
 use gltf_json::{Root, Value};
@@ -29,6 +31,27 @@ const MIN_BUDGET: usize = 1 << 20;
 
 /// The extension's name in `extensionsUsed` and on a primitive.
 pub(crate) const EXTENSION: &str = "KHR_draco_mesh_compression";
+
+/// Decodes one Draco stream as `request` asks (see `clod_draco::decode`).
+pub type DracoDecoder<'a> = dyn FnMut(&[u8], &Request) -> Result<Decoded, DecodeError> + 'a;
+
+/// `clod_draco::decode`'s signature.
+type DecodeFn = fn(&[u8], &Request) -> Result<Decoded, DecodeError>;
+
+/// The decoder linked into this build (feature `draco`), if any.
+#[cfg(feature = "draco")]
+pub(crate) const BUILT_IN: Option<DecodeFn> = Some(clod_draco::decode);
+/// The decoder linked into this build (feature `draco`), if any.
+#[cfg(not(feature = "draco"))]
+pub(crate) const BUILT_IN: Option<DecodeFn> = None;
+
+/// Whether the glTF JSON `json` declares Draco-compressed primitives (`extensionsUsed`): a
+/// caller without the built-in decoder then loads one before importing.
+pub(crate) fn declared(json: &[u8]) -> bool {
+    let Ok(document) = gltf_json::deserialize::from_slice::<Value>(json) else { return false };
+    let used = document.get("extensionsUsed").and_then(Value::as_array);
+    used.is_some_and(|used| used.iter().any(|e| e.as_str() == Some(EXTENSION)))
+}
 
 /// The accessors that Draco-compressed primitives define: their indices and the attributes the
 /// extension maps (they need no buffer view).
@@ -58,7 +81,11 @@ pub(crate) fn compressed_accessors(root: &Root) -> Vec<usize> {
 /// # Errors
 /// [`ImportError::Invalid`] naming the primitive: a malformed extension object, a stream that
 /// does not decode or is over the limits, or decoded counts that disagree with the accessors.
-pub(crate) fn decode_primitives(root: &Root, buffers: &Buffers) -> Result<DecodedAccessors, ImportError> {
+pub(crate) fn decode_primitives(
+    root: &Root,
+    buffers: &Buffers,
+    mut decoder: Option<&mut DracoDecoder>,
+) -> Result<DecodedAccessors, ImportError> {
     let mut decoded = DecodedAccessors::new();
     // What all streams together may decode to: primitives may share one stream, so each decode
     // gets what the ones before it left.
@@ -75,20 +102,48 @@ pub(crate) fn decode_primitives(root: &Root, buffers: &Buffers) -> Result<Decode
                 .and_then(Value::as_u64)
                 .ok_or_else(|| bad(format!("{EXTENSION} has no bufferView")))?;
             let stream = view_bytes(root, buffers, view as usize)?;
-            let limits = DecodeLimits::default()
-                .with_max_points(MAX_VERTICES as u64)
-                .with_max_faces((MAX_INDICES / 3) as u64)
-                .with_max_decoded_bytes(budget as u64);
+            let attributes = extension
+                .get("attributes")
+                .and_then(Value::as_object)
+                .ok_or_else(|| bad(format!("{EXTENSION} has no attributes")))?;
+            // The attributes the primitive lists (one compressed but not listed is never read),
+            // each with its accessor and Draco id.
+            let mut wanted = Vec::new();
+            for (semantic, id) in attributes {
+                let id = id.as_u64().ok_or_else(|| bad(format!("attribute {semantic} has no Draco id")))?;
+                let Some(accessor) = primitive
+                    .attributes
+                    .iter()
+                    .find(|(s, _)| matches!(s, Checked::Valid(s) if s.to_string() == *semantic))
+                    .map(|(_, a)| a.value())
+                else {
+                    continue;
+                };
+                let id = u32::try_from(id)
+                    .map_err(|_| bad(format!("its Draco stream has no attribute {id} ({semantic})")))?;
+                let components = layout(root, accessor).map_err(|p| bad(format!("{semantic}: {p}")))?.3;
+                wanted.push((semantic, accessor, id, components));
+            }
+            let request = Request {
+                max_points: MAX_VERTICES as u64,
+                max_faces: (MAX_INDICES / 3) as u64,
+                max_decoded_bytes: budget as u64,
+                attributes: wanted.iter().map(|w| (w.2, w.3)).collect(),
+            };
             let too_large = || {
                 bad(format!("the file's Draco streams decode to more than {MAX_EXPANSION} times its size"))
             };
-            let mut mesh = Mesh::new();
-            MeshDecoder::new()
-                .decode(&mut DecoderBuffer::new(stream).with_limits(limits), &mut mesh)
-                .map_err(|e| match e.kind() {
-                    ErrorKind::LimitExceeded => too_large(),
-                    _ => bad(format!("its Draco stream does not decode ({e})")),
-                })?;
+            let decode = decoder.as_deref_mut().ok_or_else(|| ImportError::UnsupportedExtension {
+                name: EXTENSION.into(),
+                what: "Draco-compressed geometry".into(),
+                advice: "this build decodes it with the separate Draco module (crates/clod-draco, \
+                         www/pkg-draco/), which was not given"
+                    .into(),
+            })?;
+            let mesh = decode(stream, &request).map_err(|e| match e {
+                DecodeError::LimitExceeded => too_large(),
+                DecodeError::Invalid(e) => bad(format!("its Draco stream does not decode ({e})")),
+            })?;
             let mut spend = |bytes: Vec<u8>| match budget.checked_sub(bytes.len()) {
                 Some(left) => {
                     budget = left;
@@ -100,27 +155,13 @@ pub(crate) fn decode_primitives(root: &Root, buffers: &Buffers) -> Result<Decode
                 let bytes = spend(index_bytes(root, indices.value(), &mesh).map_err(bad)?)?;
                 decoded.entry(indices.value()).or_insert(bytes);
             }
-            let attributes = extension
-                .get("attributes")
-                .and_then(Value::as_object)
-                .ok_or_else(|| bad(format!("{EXTENSION} has no attributes")))?;
-            for (semantic, id) in attributes {
-                let id = id.as_u64().ok_or_else(|| bad(format!("attribute {semantic} has no Draco id")))?;
-                let Some(accessor) = primitive
-                    .attributes
-                    .iter()
-                    .find(|(s, _)| matches!(s, Checked::Valid(s) if s.to_string() == *semantic))
-                    .map(|(_, a)| a.value())
-                else {
-                    continue; // compressed but not listed on the primitive: nothing reads it
-                };
-                let attribute = u32::try_from(id)
-                    .ok()
-                    .and_then(|id| mesh.attribute_by_unique_id(id))
+            for ((semantic, accessor, id, _), attribute) in wanted.iter().zip(&mesh.attributes) {
+                let attribute = attribute
+                    .as_ref()
                     .ok_or_else(|| bad(format!("its Draco stream has no attribute {id} ({semantic})")))?;
-                let bytes = attribute_bytes(root, accessor, &mesh, attribute)
+                let bytes = attribute_bytes(root, *accessor, &mesh, attribute)
                     .map_err(|problem| bad(format!("{semantic}: {problem}")))?;
-                decoded.entry(accessor).or_insert(spend(bytes)?);
+                decoded.entry(*accessor).or_insert(spend(bytes)?);
             }
         }
     }
@@ -137,9 +178,9 @@ fn layout(root: &Root, accessor: usize) -> Result<(usize, ComponentType, bool, u
 }
 
 /// The decoded faces as the bytes of index accessor `accessor`.
-fn index_bytes(root: &Root, accessor: usize, mesh: &Mesh) -> Result<Vec<u8>, String> {
+fn index_bytes(root: &Root, accessor: usize, mesh: &Decoded) -> Result<Vec<u8>, String> {
     let (count, ct, _, _) = layout(root, accessor)?;
-    let faces = mesh.num_faces();
+    let faces = mesh.faces.len() / 3;
     if count != faces * 3 {
         return Err(format!("accessor {accessor} has {count} indices, its Draco stream {faces} triangles"));
     }
@@ -150,17 +191,14 @@ fn index_bytes(root: &Root, accessor: usize, mesh: &Mesh) -> Result<Vec<u8>, Str
         _ => return Err(format!("index accessor {accessor} is not unsigned")),
     };
     let mut bytes = Vec::with_capacity(count * ct.size());
-    for f in 0..faces {
-        for point in mesh.face(draco_core::FaceIndex(f as u32)) {
-            let index = point.0;
-            if index > max {
-                return Err(format!("index {index} does not fit accessor {accessor}'s {ct:?}"));
-            }
-            match ct {
-                ComponentType::U8 => bytes.push(index as u8),
-                ComponentType::U16 => bytes.extend((index as u16).to_le_bytes()),
-                _ => bytes.extend(index.to_le_bytes()),
-            }
+    for &index in &mesh.faces {
+        if index > max {
+            return Err(format!("index {index} does not fit accessor {accessor}'s {ct:?}"));
+        }
+        match ct {
+            ComponentType::U8 => bytes.push(index as u8),
+            ComponentType::U16 => bytes.extend((index as u16).to_le_bytes()),
+            _ => bytes.extend(index.to_le_bytes()),
         }
     }
     Ok(bytes)
@@ -170,19 +208,23 @@ fn index_bytes(root: &Root, accessor: usize, mesh: &Mesh) -> Result<Vec<u8>, Str
 fn attribute_bytes(
     root: &Root,
     accessor: usize,
-    mesh: &Mesh,
-    attribute: &PointAttribute,
+    mesh: &Decoded,
+    attribute: &Attribute,
 ) -> Result<Vec<u8>, String> {
     let (count, ct, normalized, components) = layout(root, accessor)?;
-    let points = mesh.num_points();
+    let points = mesh.points;
     if count != points {
         return Err(format!("accessor {accessor} has {count} elements, its Draco stream {points} points"));
     }
-    let float =
-        matches!(attribute.data_type(), draco_core::DataType::Float32 | draco_core::DataType::Float64);
+    if attribute.values.len() != count * components {
+        return Err(format!(
+            "its Draco decoder gave {} values for {count} points of {components} components",
+            attribute.values.len()
+        ));
+    }
     let mut bytes = Vec::with_capacity(count * components * ct.size());
-    for value in attribute.read_f32s(points, components) {
-        push_component(&mut bytes, ct, normalized && float, value);
+    for &value in &attribute.values {
+        push_component(&mut bytes, ct, normalized && attribute.float, value);
     }
     Ok(bytes)
 }

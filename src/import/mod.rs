@@ -32,6 +32,7 @@ mod accessor;
 mod clips;
 mod container;
 mod draco;
+pub use draco::DracoDecoder;
 mod geometry;
 mod material;
 mod meshopt;
@@ -153,7 +154,7 @@ fn first_unreadable(required: &[String]) -> Option<ImportError> {
 /// Any [`ImportError`]: broken container, invalid JSON, out-of-range data, …
 pub fn from_glb(bytes: &[u8]) -> Result<Character, ImportError> {
     let glb = container::split_glb(bytes)?;
-    import(glb.json, glb.bin, &mut |_| None)
+    import(glb.json, glb.bin, &mut |_| None, None)
 }
 
 /// Imports a JSON glTF (`.gltf`) file.
@@ -168,7 +169,7 @@ pub fn from_gltf(
     json: &[u8],
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
 ) -> Result<Character, ImportError> {
-    import(json, None, resolve)
+    import(json, None, resolve, None)
 }
 
 /// A resolver over files dropped or picked together, as a browser hands them over (names, no
@@ -194,12 +195,38 @@ pub fn from_bytes(
     bytes: &[u8],
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
 ) -> Result<Character, ImportError> {
+    from_bytes_with(bytes, resolve, None)
+}
+
+/// [`from_bytes`] with the Draco decoder `draco` (else the built-in one of feature `draco`, if
+/// any): the viewer page's build has none built in, and passes the separate module's for the files
+/// [`uses_draco`] finds.
+///
+/// # Errors
+/// As [`from_bytes`]; a Draco-compressed file without any decoder is
+/// [`ImportError::UnsupportedExtension`].
+pub fn from_bytes_with(
+    bytes: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+    draco: Option<&mut DracoDecoder>,
+) -> Result<Character, ImportError> {
     if bytes.starts_with(container::GLB_MAGIC) {
         let glb = container::split_glb(bytes)?;
-        import(glb.json, glb.bin, resolve)
+        import(glb.json, glb.bin, resolve, draco)
     } else {
-        import(bytes, None, resolve)
+        import(bytes, None, resolve, draco)
     }
+}
+
+/// Whether a `.glb` or `.gltf` declares Draco-compressed geometry (`KHR_draco_mesh_compression`
+/// in `extensionsUsed`): what a caller without the built-in decoder checks before importing. Bytes
+/// that are not a glTF answer `false` (the import then says what is wrong).
+pub fn uses_draco(bytes: &[u8]) -> bool {
+    let json = match bytes.starts_with(container::GLB_MAGIC) {
+        true => container::split_glb(bytes).map(|glb| glb.json).ok(),
+        false => Some(bytes),
+    };
+    json.is_some_and(draco::declared)
 }
 
 /// Imports a `.glb` or `.gltf` file from disk, reading the external buffers and images its URIs
@@ -329,11 +356,14 @@ fn import(
     json: &[u8],
     bin: Option<&[u8]>,
     resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+    draco: Option<&mut DracoDecoder>,
 ) -> Result<Character, ImportError> {
     let mut warnings = Vec::new();
     let root = parse_document(json, &mut warnings)?;
     let mut buffers = container::load_buffers(&root, bin, resolve)?;
-    buffers.set_draco(draco::decode_primitives(&root, &buffers)?);
+    let mut built_in = draco::BUILT_IN;
+    let draco = draco.or(built_in.as_mut().map(|f| f as &mut DracoDecoder));
+    buffers.set_draco(draco::decode_primitives(&root, &buffers, draco)?);
     let src = Source { root: &root, buffers: &buffers };
 
     let graph = scene::SceneGraph::new(&root)?;

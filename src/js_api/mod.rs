@@ -95,13 +95,30 @@ impl Character {
 
     /// Loads either form, a `.glb` or a `.gltf`, telling them apart by the first bytes (the GLB
     /// magic `glTF`); `resolve(uri)` supplies a `.gltf`'s external files as for
-    /// [`Character::from_gltf`] (a `.glb` with everything inside never calls it).
+    /// [`Character::from_gltf`] (a `.glb` with everything inside never calls it). `draco`
+    /// (optional) decodes Draco streams: the `decode` of the separate Draco module
+    /// (`www/pkg-draco/`), which a build without the built-in decoder (the viewer page's) needs for
+    /// the files [`uses_draco`] finds.
     ///
     /// Throws an `Error` naming the problem.
     #[wasm_bindgen(js_name = fromBytes)]
-    pub fn from_bytes(bytes: &[u8], resolve: &js_sys::Function) -> Result<Character, JsError> {
+    pub fn from_bytes(
+        bytes: &[u8],
+        resolve: &js_sys::Function,
+        #[wasm_bindgen(
+            unchecked_param_type = "((stream: Uint8Array, request: Uint32Array) => Uint8Array) | undefined"
+        )]
+        draco: JsValue,
+    ) -> Result<Character, JsError> {
         let mut resolver = resolver(Some(resolve));
-        let inner = import::from_bytes(bytes, &mut resolver).map_err(|e| JsError::new(&e.to_string()))?;
+        let draco = draco.dyn_into::<js_sys::Function>().ok();
+        let mut decoder = draco.as_ref().map(draco_decoder);
+        let inner = import::from_bytes_with(
+            bytes,
+            &mut resolver,
+            decoder.as_mut().map(|d| d as &mut import::DracoDecoder),
+        )
+        .map_err(|e| JsError::new(&e.to_string()))?;
         Ok(Character { inner: Rc::new(inner) })
     }
 
@@ -397,6 +414,31 @@ impl Clod {
         self.clod.levels.get(i).ok_or_else(|| {
             JsError::new(&format!("level {i} does not exist; there are {}", self.clod.levels.len()))
         })
+    }
+}
+
+/// Whether `bytes` (a `.glb` or `.gltf`) declare Draco-compressed geometry: a page whose build has
+/// no built-in Draco decoder then loads the separate module (`www/pkg-draco/`) and passes its
+/// `decode` to `Character.fromBytes` or `Viewer.create`.
+#[wasm_bindgen(js_name = usesDraco)]
+pub fn uses_draco(bytes: &[u8]) -> bool {
+    import::uses_draco(bytes)
+}
+
+/// A Draco decoder over the separate module's `decode(stream, request) → answer` (see
+/// `crates/clod-draco`): the request and the answer cross as words and bytes.
+pub fn draco_decoder(
+    decode: &js_sys::Function,
+) -> impl FnMut(&[u8], &clod_draco::Request) -> Result<clod_draco::Decoded, clod_draco::DecodeError> + '_ {
+    move |stream, request| {
+        let stream = js_sys::Uint8Array::from(stream);
+        let words = js_sys::Uint32Array::from(request.to_words().as_slice());
+        let answer = decode
+            .call2(&JsValue::NULL, &stream, &words)
+            .ok()
+            .and_then(|a| a.dyn_into::<js_sys::Uint8Array>().ok())
+            .ok_or_else(|| clod_draco::DecodeError::Invalid("the Draco module did not answer".into()))?;
+        clod_draco::read_answer(&answer.to_vec()).map_err(clod_draco::DecodeError::Invalid)?
     }
 }
 

@@ -235,6 +235,8 @@ pub struct CreateOptions {
     pub build_ms: Option<Number>,
     /// `"later"`: the levels arrive with `attachLod`.
     pub lod: Option<OneOf<LodLater>>,
+    /// The separate Draco module's `decode`, for a file that needs it (see `usesDraco`).
+    pub draco: Option<super::build_options::Callback>,
 }
 
 /// A `Uint8Array`, copied out of JavaScript.

@@ -154,7 +154,14 @@ impl Viewer {
             }
         };
         let mut resolver = crate::js_api::resolver(options.resolve.as_ref().map(|r| &r.0));
-        let character = import::from_bytes(&bytes, &mut resolver).map_err(|e| coded_error("model", e))?;
+        let mut draco = options.draco.as_ref().map(|d| crate::js_api::draco_decoder(&d.0));
+        let character = import::from_bytes_with(
+            &bytes,
+            &mut resolver,
+            draco.as_mut().map(|d| d as &mut import::DracoDecoder),
+        )
+        .map_err(|e| coded_error("model", e))?;
+        drop(draco);
         drop(bytes);
         next_task().await;
         let mut warnings = character.warnings.clone();

@@ -82,6 +82,40 @@ test('every shared model opens through the file input and the numbers show its t
   }
 });
 
+// The page's wasm links no Draco decoder (wasm-pack.toml: default-features = false): a Draco file
+// makes the element fetch pkg-draco/ (crates/clod-draco) for the page and for the worker, and no
+// other file ever fetches it. The robot is compressed here as gltf-transform's `draco` does it.
+test('a Draco-compressed file fetches the Draco module, and shows with its levels on both backends', async () => {
+  const { NodeIO } = await import('@gltf-transform/core');
+  const { ALL_EXTENSIONS } = await import('@gltf-transform/extensions');
+  const { draco } = await import('@gltf-transform/functions');
+  const draco3d = (await import('draco3dgltf')).default;
+  const io = new NodeIO().registerExtensions(ALL_EXTENSIONS).registerDependencies({
+    'draco3d.encoder': await draco3d.createEncoderModule(),
+    'draco3d.decoder': await draco3d.createDecoderModule(),
+  });
+  const document = await io.readBinary(new Uint8Array(readFileSync(new URL('../../assets/robot.glb', import.meta.url))));
+  await document.transform(draco({ method: 'edgebreaker' }));
+  const packed = Buffer.from(await io.writeBinary(document));
+  for (const backend of ['webgpu', 'webgl2']) {
+    const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
+    const fetched = [];
+    page.on('request', (r) => fetched.push(new URL(r.url()).pathname));
+    page.context().on('request', (r) => fetched.push(new URL(r.url()).pathname));
+    assert.ok(!fetched.some((p) => p.includes('pkg-draco')), 'nothing fetched the decoder before a Draco file');
+    const outcome = await nextOutcome(page, () => page.setInputFiles('#file', { name: 'robot-draco.glb', mimeType: 'model/gltf-binary', buffer: packed }));
+    assert.equal(outcome.type, 'load', JSON.stringify(outcome.detail));
+    assert.equal(outcome.detail.triangles, 2628);
+    const { levels } = await levelsArrived(page);
+    assert.ok(levels.levels > 1, `${backend}: ${levels.levels} levels`);
+    assert.ok(fetched.some((p) => p.endsWith('/pkg-draco/clod_draco_bg.wasm')), `${backend}: ${fetched.join(', ')}`);
+    const state = await frame(page, 1000, { paused: true, time: 0.3 });
+    const pixels = await readPixels(page);
+    for (const view of state.views) assert.ok(foregroundFraction(crop(pixels, view.rect)) > 0.01, `${backend}: ${view.method} view is blank`);
+    await page.close();
+  }
+});
+
 test('a .gltf dropped with its .bin opens', async () => {
   const glb = model('RiggedSimple.glb');
   if (!glb) return;

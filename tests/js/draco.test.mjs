@@ -7,9 +7,13 @@
 // frame, and build its levels. Draco reorders and welds vertices, so surfaces are compared,
 // not arrays. Primitives sharing one stream cannot make a small file decode to gigabytes: all
 // streams together decode to at most 64 times the file.
+//
+// The node tests bind the WebGPU page's wasm, which links no Draco decoder (wasm-pack.toml:
+// default-features = false): as the page does, they load crates/clod-draco's own module
+// (www/pkg-draco/, `build_wasm draco`) and hand its `decode` to `Character.fromBytes`.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { NodeIO } from '@gltf-transform/core';
 import { ALL_EXTENSIONS } from '@gltf-transform/extensions';
@@ -35,6 +39,16 @@ function glbJson(bytes) {
   return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + view.getUint32(12, true))));
 }
 
+/** The separate Draco module's `decode`, or null (failing under CI) when it is not built. */
+const glue = fileURLToPath(new URL('../../www/pkg-draco/clod_draco.js', import.meta.url));
+const dracoModule = existsSync(glue) ? await import(glue) : null;
+if (dracoModule) await dracoModule.default({ module_or_path: readFileSync(glue.replace(/\.js$/, '_bg.wasm')) });
+else if (process.env.CI === 'true') throw new Error(`${glue} is missing: build_wasm draco first`);
+else console.log('skipping: www/pkg-draco is not built (build_wasm draco)');
+
+/** A Draco-compressed file through the JS API, with the separate module's decoder. */
+const fromDraco = (bytes, decode = dracoModule.decode) => api.Character.fromBytes(bytes, () => null, decode);
+
 const robot = () => new Uint8Array(readFileSync(fileURLToPath(new URL('../../assets/robot.glb', import.meta.url))));
 const cases = [
   ['CesiumMan.glb', () => modelBytes('CesiumMan.glb'), 'edgebreaker'],
@@ -48,13 +62,14 @@ for (const [name, load, method] of cases) {
   test(`${name} compressed with Draco (${method}) imports, skins as the original and builds its levels`, async (t) => {
     const bytes = load();
     if (!bytes) return t.skip('model missing');
+    if (!dracoModule) return t.skip('www/pkg-draco is not built');
     const packed = await dracoCompress(bytes, method);
     const json = glbJson(packed);
     assert.ok(json.extensionsRequired.includes('KHR_draco_mesh_compression'));
     const compressed = json.meshes.flatMap((m) => m.primitives).filter((p) => p.extensions?.KHR_draco_mesh_compression);
     assert.ok(compressed.length > 0, 'the encoder compressed primitives');
     const original = api.Character.fromGlb(bytes);
-    const c = api.Character.fromGlb(packed);
+    const c = fromDraco(packed);
     try {
       assert.deepEqual(c.warnings, original.warnings);
       assert.equal(c.triangleCount, original.triangleCount);
@@ -102,16 +117,36 @@ function withJson(bytes, json) {
 test('Draco streams shared by many primitives cannot decode to far more than the file', async (t) => {
   const bytes = modelBytes('CesiumMan.glb');
   if (!bytes) return t.skip('model missing');
+  if (!dracoModule) return t.skip('www/pkg-draco is not built');
   const packed = await dracoCompress(bytes, 'edgebreaker');
   const json = glbJson(packed);
   // One primitive decodes to about 1.5 times this file; a hundred sharing its stream, to 150.
   const primitive = json.meshes[0].primitives[0];
   json.meshes[0].primitives = Array.from({ length: 100 }, () => primitive);
-  assert.throws(() => api.Character.fromGlb(withJson(packed, json)), /more than 64 times its size/);
+  assert.throws(() => fromDraco(withJson(packed, json)), /more than 64 times its size/);
   json.meshes[0].primitives = [primitive, primitive];
-  const once = api.Character.fromGlb(packed);
-  const twice = api.Character.fromGlb(withJson(packed, json));
+  const once = fromDraco(packed);
+  const twice = fromDraco(withJson(packed, json));
   assert.equal(twice.triangleCount, 2 * once.triangleCount);
   twice.free();
   once.free();
+});
+
+// `usesDraco` is what the page asks before loading the module; without a decoder the import says
+// what is missing; a decoder that answers nonsense is a message naming the primitive.
+test('usesDraco finds the files that need the Draco module, and the import needs a decoder for them', async (t) => {
+  if (!dracoModule) return t.skip('www/pkg-draco is not built');
+  const original = robot();
+  const packed = await dracoCompress(original, 'sequential');
+  assert.equal(api.usesDraco(packed), true);
+  assert.equal(api.usesDraco(original), false);
+  assert.equal(api.usesDraco(new TextEncoder().encode('{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"]}')), true);
+  assert.equal(api.usesDraco(new Uint8Array([1, 2, 3])), false);
+  assert.throws(() => api.Character.fromBytes(packed, () => null), /KHR_draco_mesh_compression \(Draco-compressed geometry\).*separate Draco module/);
+  let calls = 0;
+  const counted = fromDraco(packed, (stream, request) => { calls++; return dracoModule.decode(stream, request); });
+  assert.equal(calls, glbJson(packed).meshes.flatMap((m) => m.primitives).filter((p) => p.extensions?.KHR_draco_mesh_compression).length);
+  counted.free();
+  assert.throws(() => fromDraco(packed, () => new Uint8Array([9, 9])), /meshes\[\d+\]\.primitives\[\d+\]: its Draco stream does not decode \(the Draco decoder's answer is malformed\)/);
+  assert.throws(() => fromDraco(packed, () => 'no'), /its Draco stream does not decode \(the Draco module did not answer\)/);
 });
