@@ -18,9 +18,12 @@ build_wasm web
 build_wasm webgl
 build_wasm draco
 node scripts/page-size.mjs
+# The npm package of what was just built, for tests/browser/package.test.mjs and embed.test.mjs.
+PACKAGE_BUILT=1 bash scripts/package.sh >/dev/null
 
 log="$(mktemp)"
-MODELS_DIR="$root/../shared/models" SITE_PREFIX=/docs/v1/ PORT=0 node scripts/serve.mjs >"$log" 2>&1 &
+export MODELS_DIR="$root/../shared/models"
+SITE_PREFIX=/docs/v1/ PORT=0 node scripts/serve.mjs >"$log" 2>&1 &
 server=$!
 trap 'kill "$server" 2>/dev/null || true; rm -f "$log"' EXIT
 for _ in $(seq 100); do
@@ -35,17 +38,17 @@ if [ -z "$url" ]; then
 fi
 # The suites the test command runs: views (with the continuous LOD, overlay and camera tests),
 # fairness, pop-spike (measured by the viewer itself, on a small page), webgl2, the page for readers
-# (files, URL state, progress, long tasks), embedding (<clod-viewer>, embed.html), the crowd, morph targets,
-# the element's error events, the default page's first impression and FLIP against its reference's
-# fixtures. frame-times only
+# (files, URL state, progress, long tasks), embedding (<clod-viewer>, embed.html; from www/ and from the npm
+# package), the package installed into an empty site, the element's error events, the crowd, morph targets,
+# the default page's first impression and FLIP against its reference's fixtures. frame-times only
 # reports numbers and takes minutes on SwiftShader: `BROWSER_TESTS=all` runs every file.
 if [ "${BROWSER_TESTS:-}" = all ]; then
   files=(tests/browser/)
 else
   files=(tests/browser/views.test.mjs tests/browser/fairness.test.mjs tests/browser/pop-spike.test.mjs
-    tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/sync.test.mjs
-    tests/browser/meter.test.mjs tests/browser/crowd.test.mjs tests/browser/morph.test.mjs
-    tests/browser/errors.test.mjs tests/browser/first-impression.test.mjs tests/browser/flip.test.mjs)
+    tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/package.test.mjs
+    tests/browser/errors.test.mjs tests/browser/sync.test.mjs tests/browser/meter.test.mjs tests/browser/crowd.test.mjs
+    tests/browser/morph.test.mjs tests/browser/first-impression.test.mjs tests/browser/flip.test.mjs)
 fi
 echo "== browser tests against $url: ${files[*]}"
 # One file at a time: SwiftShader already uses every core.

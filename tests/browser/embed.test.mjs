@@ -1,13 +1,27 @@
 // Embedding (issue 6): the docs example page with two <clod-viewer> elements, the iframe target
-// embed.html, lazy loading, pausing off screen, and the element's events and methods.
+// embed.html, lazy loading, pausing off screen, and the element's events and methods. Each test
+// runs twice: against www/ served under a docs path (/docs/v1/, scripts/serve.mjs), and against
+// the npm package installed into an empty site (tests/browser/package-site.mjs), whose copies of
+// the two pages load the element from node_modules/.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync } from 'node:fs';
 import { launch, baseUrl, crop, foregroundFraction, decodePixels } from './helpers.mjs';
+import { packageSite, pageFromWww } from './package-site.mjs';
 
 let browser;
-before(async () => { browser = await launch(); });
-after(async () => { await browser?.close(); });
+let packaged;
+before(async () => {
+  browser = await launch();
+  packaged = await packageSite({ 'docs-example.html': pageFromWww('docs-example.html'), 'embed.html': pageFromWww('embed.html') });
+});
+after(async () => {
+  await browser?.close();
+  packaged?.close();
+});
+
+// Where each site's pages are: [name, base URL].
+const SITES = [['www', () => new URL('docs/v1/', baseUrl).href], ['package', () => packaged.url]];
 
 // Opens `path` and records every <clod-viewer>'s events from the start. The page closes when the
 // test ends: autoplaying viewers left open would keep the software rasterizer busy.
@@ -25,7 +39,7 @@ async function open(t, path, viewport = { width: 1000, height: 700 }) {
       }, true);
     }
   });
-  await page.goto(new URL(path, baseUrl).href);
+  await page.goto(path);
   page.logs = logs;
   return page;
 }
@@ -61,101 +75,103 @@ async function viewCoverage(page, id, time = 0.4) {
   return { state, coverage: state.views.map((v) => foregroundFraction(crop(pixels, v.rect))) };
 }
 
-test('the docs example renders both embedded viewers, lazily, each with its own clip and modes', async (t) => {
-  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
-  await waitLoaded(page, 'walk');
-  // The second viewer is below the fold: nothing of it has started.
-  assert.deepEqual(await events(page, 'wave'), []);
-  await page.locator('#wave').scrollIntoViewIfNeeded();
-  await waitLoaded(page, 'wave');
-  const walk = await viewCoverage(page, 'walk');
-  const wave = await viewCoverage(page, 'wave');
-  assert.deepEqual(walk.state.views.map((v) => v.method), ['popping', 'alpha', 'geomorph']);
-  assert.deepEqual(wave.state.views.map((v) => v.method), ['popping', 'geomorph']);
-  assert.equal(walk.state.clips[walk.state.clip], 'Walk');
-  assert.equal(wave.state.clips[wave.state.clip], 'Wave');
-  for (const [id, c] of [['walk', walk.coverage], ['wave', wave.coverage]]) {
-    c.forEach((f, i) => assert.ok(f > 0.02, `${id} view ${i} is blank (${f})`));
-  }
-  // Three views in the article's column are about 250 px wide: every label stays inside its view
-  // and shows its whole text, the triangle count included (the short form where the long one
-  // does not fit).
-  for (const id of ['walk', 'wave']) {
-    // One frame drawn and its labels read in the same task, so both show the same levels.
-    const { state, labels } = await page.evaluate((id) => {
-      const el = document.getElementById(id);
-      const state = el.renderFrame(performance.now());
-      const canvas = el.querySelector('canvas');
-      const origin = canvas.getBoundingClientRect().left;
-      const labels = [...el.querySelectorAll('.clod-label')].filter((l) => !l.hidden).map((l) => {
-        const box = l.getBoundingClientRect();
-        return { text: l.textContent, left: box.left - origin, right: box.right - origin, clipped: l.scrollWidth > l.clientWidth };
+for (const [site, base] of SITES) {
+  test(`${site}: the docs example renders both embedded viewers, lazily, each with its own clip and modes`, async (t) => {
+    const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
+    await waitLoaded(page, 'walk');
+    // The second viewer is below the fold: nothing of it has started.
+    assert.deepEqual(await events(page, 'wave'), []);
+    await page.locator('#wave').scrollIntoViewIfNeeded();
+    await waitLoaded(page, 'wave');
+    const walk = await viewCoverage(page, 'walk');
+    const wave = await viewCoverage(page, 'wave');
+    assert.deepEqual(walk.state.views.map((v) => v.method), ['popping', 'alpha', 'geomorph']);
+    assert.deepEqual(wave.state.views.map((v) => v.method), ['popping', 'geomorph']);
+    assert.equal(walk.state.clips[walk.state.clip], 'Walk');
+    assert.equal(wave.state.clips[wave.state.clip], 'Wave');
+    for (const [id, c] of [['walk', walk.coverage], ['wave', wave.coverage]]) {
+      c.forEach((f, i) => assert.ok(f > 0.02, `${id} view ${i} is blank (${f})`));
+    }
+    // Three views in the article's column are about 250 px wide: every label stays inside its view
+    // and shows its whole text, the triangle count included (the short form where the long one
+    // does not fit).
+    for (const id of ['walk', 'wave']) {
+      // One frame drawn and its labels read in the same task, so both show the same levels.
+      const { state, labels } = await page.evaluate((id) => {
+        const el = document.getElementById(id);
+        const state = el.renderFrame(performance.now());
+        const canvas = el.querySelector('canvas');
+        const origin = canvas.getBoundingClientRect().left;
+        const labels = [...el.querySelectorAll('.clod-label')].filter((l) => !l.hidden).map((l) => {
+          const box = l.getBoundingClientRect();
+          return { text: l.textContent, left: box.left - origin, right: box.right - origin, clipped: l.scrollWidth > l.clientWidth };
+        });
+        return { state, labels: labels.map((l) => ({ ...l, dpr: canvas.width / canvas.clientWidth })) };
+      }, id);
+      assert.equal(labels.length, state.views.length);
+      labels.forEach((l, i) => {
+        const [x, , w] = state.views[i].rect;
+        assert.ok(!l.clipped, `${id} label ${i} is cut off: ${l.text}`);
+        assert.ok(l.left >= x / l.dpr - 0.5 && l.right <= (x + w) / l.dpr + 0.5, `${id} label ${i} leaves its view: ${JSON.stringify(l)}`);
+        assert.ok(l.text.includes(` ${state.views[i].triangles.toLocaleString('en-US')} `), `${id} label ${i}: ${l.text}`);
       });
-      return { state, labels: labels.map((l) => ({ ...l, dpr: canvas.width / canvas.clientWidth })) };
-    }, id);
-    assert.equal(labels.length, state.views.length);
-    labels.forEach((l, i) => {
-      const [x, , w] = state.views[i].rect;
-      assert.ok(!l.clipped, `${id} label ${i} is cut off: ${l.text}`);
-      assert.ok(l.left >= x / l.dpr - 0.5 && l.right <= (x + w) / l.dpr + 0.5, `${id} label ${i} leaves its view: ${JSON.stringify(l)}`);
-      assert.ok(l.text.includes(` ${state.views[i].triangles.toLocaleString('en-US')} `), `${id} label ${i}: ${l.text}`);
-    });
-  }
-  const text = await page.locator('article').textContent();
-  assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
-});
-
-test('progress events arrive in order and end at 1; play, pause and setTime drive the clock', async (t) => {
-  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
-  await waitLoaded(page, 'walk');
-  const progress = (await events(page, 'walk')).filter((e) => e.type === 'progress').map((e) => e.detail);
-  const fractions = progress.map((p) => p.fraction);
-  assert.deepEqual(fractions, [...fractions].sort((a, b) => a - b));
-  assert.equal(fractions.at(-1), 1);
-  assert.equal(progress.at(-1).phase, 'ready');
-  const clock = await page.evaluate(async () => {
-    const el = document.getElementById('walk');
-    el.pause();
-    el.setTime(0.75);
-    const paused = el.state().animTime;
-    el.play();
-    const t0 = el.state().animTime;
-    await new Promise((r) => setTimeout(r, 1500));
-    return { paused, t0, t1: el.state().animTime };
+    }
+    const text = await page.locator('article').textContent();
+    assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
   });
-  assert.ok(Math.abs(clock.paused - 0.75) < 1e-6);
-  assert.ok(clock.t1 > clock.t0, `the clock did not run after play(): ${JSON.stringify(clock)}`);
-});
 
-test('an element scrolled off screen stops drawing', async (t) => {
-  const page = await open(t, 'docs/v1/docs-example.html', { width: 1000, height: 480 });
-  await waitLoaded(page, 'walk');
-  await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
-  // The intersection observer reports on its own schedule and a software-rendered frame may be
-  // in flight: give it a second, then count.
-  await page.waitForTimeout(1000);
-  const a = await page.evaluate(() => document.getElementById('walk').state().frames);
-  await page.waitForTimeout(2000);
-  const b = await page.evaluate(() => document.getElementById('walk').state().frames);
-  assert.equal(b, a, 'frames were drawn while off screen');
-  await page.locator('#walk').scrollIntoViewIfNeeded();
-  await page.waitForFunction((a) => document.getElementById('walk').state().frames > a, a, { timeout: 30_000 });
-});
+  test(`${site}: progress events arrive in order and end at 1; play, pause and setTime drive the clock`, async (t) => {
+    const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
+    await waitLoaded(page, 'walk');
+    const progress = (await events(page, 'walk')).filter((e) => e.type === 'progress').map((e) => e.detail);
+    const fractions = progress.map((p) => p.fraction);
+    assert.deepEqual(fractions, [...fractions].sort((a, b) => a - b));
+    assert.equal(fractions.at(-1), 1);
+    assert.equal(progress.at(-1).phase, 'ready');
+    const clock = await page.evaluate(async () => {
+      const el = document.getElementById('walk');
+      el.pause();
+      el.setTime(0.75);
+      const paused = el.state().animTime;
+      el.play();
+      const t0 = el.state().animTime;
+      await new Promise((r) => setTimeout(r, 1500));
+      return { paused, t0, t1: el.state().animTime };
+    });
+    assert.ok(Math.abs(clock.paused - 0.75) < 1e-6);
+    assert.ok(clock.t1 > clock.t0, `the clock did not run after play(): ${JSON.stringify(clock)}`);
+  });
 
-test('embed.html shows a shared model without page chrome, hosted under any path', async (t) => {
-  if (!existsSync(new URL('../../../shared/models/Fox.glb', import.meta.url))) {
-    if (process.env.CI === 'true') throw new Error('../shared/models/Fox.glb is missing, and CI needs the shared models');
-    console.log('skipping: ../shared/models/Fox.glb is missing');
-    return;
-  }
-  const page = await open(t, 'docs/v1/embed.html?model=/models/Fox.glb&clip=Walk&modes=blend+morph&paused=1', { width: 640, height: 320 });
-  await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 180_000 });
-  assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'ready', page.logs.join('\n'));
-  assert.equal(await page.locator('h1, form, header').count(), 0);
-  await page.evaluate(() => { document.querySelector('clod-viewer').id = 'embedded'; });
-  const { state, coverage } = await viewCoverage(page, 'embedded', 0.3);
-  assert.equal(state.triangles, 576);
-  assert.equal(state.clips[state.clip], 'Walk');
-  assert.deepEqual(state.views.map((v) => v.method), ['alpha', 'geomorph']);
-  coverage.forEach((f, i) => assert.ok(f > 0.01, `view ${i} is blank (${f})`));
-});
+  test(`${site}: an element scrolled off screen stops drawing`, async (t) => {
+    const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
+    await waitLoaded(page, 'walk');
+    await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
+    // The intersection observer reports on its own schedule and a software-rendered frame may be
+    // in flight: give it a second, then count.
+    await page.waitForTimeout(1000);
+    const a = await page.evaluate(() => document.getElementById('walk').state().frames);
+    await page.waitForTimeout(2000);
+    const b = await page.evaluate(() => document.getElementById('walk').state().frames);
+    assert.equal(b, a, 'frames were drawn while off screen');
+    await page.locator('#walk').scrollIntoViewIfNeeded();
+    await page.waitForFunction((a) => document.getElementById('walk').state().frames > a, a, { timeout: 30_000 });
+  });
+
+  test(`${site}: embed.html shows a shared model without page chrome, hosted under any path`, async (t) => {
+    if (!existsSync(new URL('../../../shared/models/Fox.glb', import.meta.url))) {
+      if (process.env.CI === 'true') throw new Error('../shared/models/Fox.glb is missing, and CI needs the shared models');
+      console.log('skipping: ../shared/models/Fox.glb is missing');
+      return;
+    }
+    const page = await open(t, new URL('embed.html?model=/models/Fox.glb&clip=Walk&modes=blend+morph&paused=1', base()).href, { width: 640, height: 320 });
+    await page.waitForFunction(() => document.documentElement.dataset.state !== 'loading', null, { timeout: 180_000 });
+    assert.equal(await page.evaluate(() => document.documentElement.dataset.state), 'ready', page.logs.join('\n'));
+    assert.equal(await page.locator('h1, form, header').count(), 0);
+    await page.evaluate(() => { document.querySelector('clod-viewer').id = 'embedded'; });
+    const { state, coverage } = await viewCoverage(page, 'embedded', 0.3);
+    assert.equal(state.triangles, 576);
+    assert.equal(state.clips[state.clip], 'Walk');
+    assert.deepEqual(state.views.map((v) => v.method), ['alpha', 'geomorph']);
+    coverage.forEach((f, i) => assert.ok(f > 0.01, `view ${i} is blank (${f})`));
+  });
+}
