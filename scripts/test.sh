@@ -66,20 +66,30 @@ step "the same tests under node (wasm-pack test --node)"
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
 
-step "JavaScript API from node (the WebGPU page's release wasm, bound for node)"
+step "JavaScript API from node (the WebGPU page's release wasm, bound for node), the WebGL2 page built meanwhile"
 build_wasm web
 node_from_web
 # The page's builds link no Draco decoder: tests/js/draco.test.mjs hands the import this module.
 build_wasm draco
+# The WebGL2 page builds for the browser step meanwhile: the node tests keep one core busy, and
+# the build's last crate (LTO, one codegen unit) and its wasm-opt use one.
+webgl_log="$logs/webgl-build.log"
+build_wasm webgl > "$webgl_log" 2>&1 &
+webgl_build=$!
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
+if ! wait "$webgl_build"; then
+  cat "$webgl_log" >&2
+  exit 1
+fi
 
 step "browser tests: the viewer in headless Chromium (WebGPU and WebGL2 on SwiftShader)"
 if ! wait "$chromium_install"; then
   cat "$chromium_log" >&2
   exit 1
 fi
-bash scripts/browser-test.sh 2>&1 | tee "$logs/browser.log"
+# The three page builds are those of the step before.
+PAGES_BUILT=1 bash scripts/browser-test.sh 2>&1 | tee "$logs/browser.log"
 node scripts/count-tests.mjs browser "$logs/browser.log" "$summary"
 
 step "done"

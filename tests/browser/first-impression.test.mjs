@@ -3,10 +3,12 @@
 // view at once, with popping's silhouette pop ≥ 0.25 % of the view's pixels (the live meter's
 // number, against its control); it says what is exaggerated, and (checked on WebGPU) one control
 // switches to the realistic settings and back, kept in the URL across a reload. WebGPU and WebGL2,
-// a 1240 × 700 window.
+// a 1240 × 900 window. On WebGPU the second transition is photographed for the README
+// (screenshot.mjs: it fails if a view is blank).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch, baseUrl } from './helpers.mjs';
+import { photographMidTransition, SCREENSHOT_VIEWPORT } from './screenshot.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -16,7 +18,7 @@ const FIRST_SECONDS = 20;
 
 for (const backend of ['webgpu', 'webgl2']) {
   test(`${backend}: the default page shows a transition within ${FIRST_SECONDS} s, popping's pop ≥ 0.25 % of the view`, async () => {
-    const page = await browser.newPage({ viewport: { width: 1240, height: 700 }, deviceScaleFactor: 1 });
+    const page = await browser.newPage({ viewport: SCREENSHOT_VIEWPORT, deviceScaleFactor: 1 });
     const errors = [];
     page.on('pageerror', (e) => errors.push(e.message));
     // Only the backend is chosen (WebGL2 cannot be reached otherwise on a browser with WebGPU).
@@ -54,6 +56,8 @@ for (const backend of ['webgpu', 'webgl2']) {
     const note = await page.locator('#preset-text').textContent();
     assert.match(note, /Exaggerated for demonstration: a 2\.4 px threshold \(2\.4 px per 400 px of view height\) \(realistic: a 0\.5 px threshold\), magnified ×2 \(realistic: real size\)/);
     assert.match(await page.locator('clod-viewer .clod-label').first().textContent(), /magnified ×2/);
+    // The README's picture: the next transition, with the first one's numbers in the pop table.
+    if (backend === 'webgpu') await photographMidTransition(page);
     assert.deepEqual(errors, []);
     // One control to the realistic settings and back, kept in the URL (once: the page's wiring is
     // the same on both backends).
