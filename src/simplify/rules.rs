@@ -64,7 +64,7 @@ pub const RULES: [RuleInfo; 6] = [
         reason:
             "held on the edge, a coarse open plate is a chord through its border and misses its bulge, and \
                  a corner moved onto its neighbour is cut off",
-        test: "tests/simplify.rs: a_bent_plate_keeps_its_bulge",
+        test: "tests/simplify/main.rs: a_bent_plate_keeps_its_bulge",
     },
     RuleInfo {
         rule: Rule::SeamsMoveWithSurface,
@@ -72,7 +72,7 @@ pub const RULES: [RuleInfo; 6] = [
         reason:
             "a uv or colour seam inside a smooth surface pins every vertex collapsed onto it, so the seam's \
                  neighbourhood keeps the input's shape and the rest pays",
-        test: "tests/simplify.rs: a_seam_moves_with_its_surface_and_a_crease_stays",
+        test: "tests/simplify/main.rs: a_seam_moves_with_its_surface_and_a_crease_stays",
     },
     RuleInfo {
         rule: Rule::ClosedPartsByClearance,
@@ -80,7 +80,7 @@ pub const RULES: [RuleInfo; 6] = [
         reason:
             "a sheet lies in its own planes and a finger's side planes pass its axis, so the plane quadric \
                  lets whole parts vanish for almost nothing",
-        test: "tests/simplify.rs: a_part_beside_another_vanishes_before_one_standing_alone",
+        test: "tests/simplify/parts.rs: a_part_beside_another_vanishes_before_one_standing_alone",
     },
     RuleInfo {
         rule: Rule::OpenPartsWithinReach,
@@ -88,7 +88,7 @@ pub const RULES: [RuleInfo; 6] = [
         reason:
             "an open part's last triangle lies in its own plane: the plane quadric lets a plate vanish at \
                  no cost, however far it stands from everything else",
-        test: "tests/simplify.rs: open_parts_vanish_nearest_the_level_first",
+        test: "tests/simplify/parts.rs: open_parts_vanish_nearest_the_level_first",
     },
     RuleInfo {
         rule: Rule::DistanceFloor,
@@ -96,7 +96,7 @@ pub const RULES: [RuleInfo; 6] = [
         reason:
             "the mean squared error over a pair's area misses a small part cut short (a toe merged with its \
                  heel)",
-        test: "tests/simplify.rs: max_distance_keeps_a_ridge_that_the_quadric_floor_cuts",
+        test: "tests/simplify/main.rs: max_distance_keeps_a_ridge_that_the_quadric_floor_cuts",
     },
 ];
 
