@@ -24,6 +24,8 @@ const files = [
   ['clod-viewer.js', 'www/clod-viewer.js'],
   // The replay's drawing (drawReplay), which clod-viewer.js imports and re-exports.
   ['clod-replay.js', 'www/clod-replay.js'],
+  // Its wasm builds, worker and chain cache (loadBuild, loadDraco, …), which it imports and re-exports.
+  ['clod-loading.js', 'www/clod-loading.js'],
   ['clod-worker.js', 'www/clod-worker.js'],
   ['clod-viewer.d.ts', 'www/clod-viewer.d.ts'],
   ['README.md', 'package/README.md'],
@@ -60,6 +62,7 @@ const pkg = {
     '.': { types: './clod-viewer.d.ts', default: './clod-viewer.js' },
     './clod-viewer.js': { types: './clod-viewer.d.ts', default: './clod-viewer.js' },
     './clod-replay.js': './clod-replay.js',
+    './clod-loading.js': './clod-loading.js',
     './clod-worker.js': './clod-worker.js',
     './assets/*': './assets/*',
     './pkg/*': './pkg/*',

@@ -12,7 +12,7 @@ import { readManifest } from './manifest.mjs';
 const repo = fileURLToPath(new URL('..', import.meta.url));
 const manifest = readManifest();
 const gz = (path) => gzipSync(readFileSync(join(repo, path)), { level: 9 }).length;
-const shell = ['www/index.html', 'www/style.css', 'www/main.js', 'www/clod-viewer.js', 'www/clod-replay.js', 'www/clod-worker.js'].reduce((n, p) => n + gz(p), 0);
+const shell = ['www/index.html', 'www/style.css', 'www/main.js', 'www/clod-viewer.js', 'www/clod-replay.js', 'www/clod-loading.js', 'www/clod-worker.js'].reduce((n, p) => n + gz(p), 0);
 const module = (section) => {
   const dir = manifest[`${section}.out-dir`];
   const name = manifest[`${section}.out-name`];

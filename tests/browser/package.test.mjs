@@ -47,13 +47,13 @@ test('the package holds the element, its worker, both wasm builds, the Draco mod
   assert.equal(pkg.types, './clod-viewer.d.ts');
   assert.equal(pkg.exports['.'].default, './clod-viewer.js');
   for (const file of pkg.files) assert.ok(existsSync(join(root, file)), `${file} is listed and installed`);
-  for (const file of ['clod-viewer.js', 'clod-replay.js', 'clod-worker.js', 'clod-viewer.d.ts', 'assets/character.glb', 'pkg/clod_viewer_bg.wasm',
+  for (const file of ['clod-viewer.js', 'clod-replay.js', 'clod-loading.js', 'clod-worker.js', 'clod-viewer.d.ts', 'assets/character.glb', 'pkg/clod_viewer_bg.wasm',
     'pkg-webgl/clod_viewer_bg.wasm', 'pkg-draco/clod_draco_bg.wasm', 'README.md']) {
     assert.ok(existsSync(join(root, file)), `${file} is in the package`);
   }
   // Nothing of the repository's page, tests or sources.
   const top = readdirSync(root).sort();
-  assert.deepEqual(top, ['README.md', 'assets', 'clod-replay.js', 'clod-viewer.d.ts', 'clod-viewer.js', 'clod-worker.js', 'package.json', 'pkg', 'pkg-draco', 'pkg-webgl']);
+  assert.deepEqual(top, ['README.md', 'assets', 'clod-loading.js', 'clod-replay.js', 'clod-viewer.d.ts', 'clod-viewer.js', 'clod-worker.js', 'package.json', 'pkg', 'pkg-draco', 'pkg-webgl']);
   assert.deepEqual(readdirSync(join(root, 'assets')), ['character.glb']);
 });
 
