@@ -62,26 +62,40 @@ step "native tests"
 cargo test --workspace 2>&1 | tee "$logs/native.log"
 node scripts/count-tests.mjs native "$logs/native.log" "$summary"
 
-step "the same tests under node (wasm-pack test --node)"
+# A background build waits for cargo's lock on target/ while a step compiles, and builds while the
+# step's tests run on one core (cargo holds the lock only while compiling).
+# background_build SECTION DELAY: starts build_wasm SECTION after DELAY seconds, its output in
+# target/test-logs/SECTION-build.log; its process id in $build_pid (for wait_build).
+background_build() {
+  (sleep "$2"; build_wasm "$1") > "$logs/$1-build.log" 2>&1 &
+  build_pid=$!
+}
+wait_build() {
+  if ! wait "$1"; then
+    cat "$logs/$2-build.log" >&2
+    exit 1
+  fi
+}
+
+step "the same tests under node (wasm-pack test --node), the WebGPU page built meanwhile"
+# Started a few seconds late, so that the tests' build takes the lock first.
+background_build web 5
+web_build=$build_pid
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
 
 step "JavaScript API from node (the WebGPU page's release wasm, bound for node), the WebGL2 page built meanwhile"
-build_wasm web
+wait_build "$web_build" web
 node_from_web
 # The page's builds link no Draco decoder: tests/js/draco.test.mjs hands the import this module.
 build_wasm draco
 # The WebGL2 page builds for the browser step meanwhile: the node tests keep one core busy, and
 # the build's last crate (LTO, one codegen unit) and its wasm-opt use one.
-webgl_log="$logs/webgl-build.log"
-build_wasm webgl > "$webgl_log" 2>&1 &
-webgl_build=$!
+background_build webgl 0
+webgl_build=$build_pid
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
-if ! wait "$webgl_build"; then
-  cat "$webgl_log" >&2
-  exit 1
-fi
+wait_build "$webgl_build" webgl
 
 step "browser tests: the viewer in headless Chromium (WebGPU and WebGL2 on SwiftShader)"
 if ! wait "$chromium_install"; then
