@@ -62,12 +62,12 @@ step "native tests"
 cargo test --workspace 2>&1 | tee "$logs/native.log"
 node scripts/count-tests.mjs native "$logs/native.log" "$summary"
 
-# A background build waits for cargo's lock on target/ while a step compiles, and builds while the
-# step's tests run on one core (cargo holds the lock only while compiling).
-# background_build SECTION DELAY: starts build_wasm SECTION after DELAY seconds, its output in
-# target/test-logs/SECTION-build.log; its process id in $build_pid (for wait_build).
+# The pages' release builds (target/pages/, see build_wasm) run beside the steps whose tests keep
+# one core busy, and beside the LTO of their own last crate, which uses one.
+# background_build SECTION: starts build_wasm SECTION, its output in
+# target/test-logs/SECTION-build.log, its process id in $build_pid (for wait_build).
 background_build() {
-  (sleep "$2"; build_wasm "$1") > "$logs/$1-build.log" 2>&1 &
+  build_wasm "$1" > "$logs/$1-build.log" 2>&1 &
   build_pid=$!
 }
 wait_build() {
@@ -78,8 +78,7 @@ wait_build() {
 }
 
 step "the same tests under node (wasm-pack test --node), the WebGPU page built meanwhile"
-# Started a few seconds late, so that the tests' build takes the lock first.
-background_build web 5
+background_build web
 web_build=$build_pid
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
@@ -91,7 +90,7 @@ node_from_web
 build_wasm draco
 # The WebGL2 page builds for the browser step meanwhile: the node tests keep one core busy, and
 # the build's last crate (LTO, one codegen unit) and its wasm-opt use one.
-background_build webgl 0
+background_build webgl
 webgl_build=$build_pid
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"

@@ -83,6 +83,9 @@ node_from_web() {
 # dir, features (`default-features = false` drops the crate's defaults) of wasm-pack.toml [SECTION],
 # then wasm-opt at the section's level (`wasm-opt = "-Oz"`; false: none; the environment's WASM_OPT,
 # when set, replaces it: WASM_OPT=false for a quick build, WASM_OPT=-O3 to compare levels).
+# The release builds of the pages compile into target/pages/, a target directory of their own: they
+# share no artifact with the dev and test builds, and with a directory of their own they build
+# without waiting for cargo's lock on target/ (scripts/test.sh builds them beside the tests).
 build_wasm() {
   local section="$1"
   local crate; crate="$(manifest "$section.crate" .)"
@@ -90,7 +93,7 @@ build_wasm() {
   local name; name="$(manifest "$section.out-name")"
   local defaults=()
   [ "$(manifest "$section.default-features" true)" = false ] && defaults=(--no-default-features)
-  (cd "$root/$crate" && wasm-pack build --release --no-pack \
+  (cd "$root/$crate" && CARGO_TARGET_DIR="$root/target/pages" wasm-pack build --release --no-pack \
     --target "$(manifest "$section.target")" \
     --out-dir "$out" \
     --out-name "$name" \

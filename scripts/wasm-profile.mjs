@@ -1,5 +1,5 @@
 // What a wasm module spends its bytes on: the code of every function by crate (from the module's
-// `name` section, which rustc's output keeps: cargo's target/wasm32-unknown-unknown/release/
+// `name` section, which rustc's output keeps: target/pages/wasm32-unknown-unknown/release/
 // clod_viewer.wasm, before wasm-bindgen and wasm-opt strip it), its data segments, and the largest
 // functions. Sizes are raw bytes of function bodies; `gzip` is each crate's functions gzipped
 // together (what they add to the download, roughly).
