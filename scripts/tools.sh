@@ -76,7 +76,7 @@ ensure_npm_packages() {
 node_from_web() {
   wasm-bindgen --target nodejs \
     --out-dir "$root/$(manifest node.out-dir)" --out-name "$(manifest node.out-name)" \
-    "$root/target/$(manifest tools.rust-target)/release/clod_viewer.wasm"
+    "$root/target/pages/$(manifest tools.rust-target)/release/clod_viewer.wasm"
 }
 
 # build_wasm SECTION: wasm-pack build of the crate (`crate`, default the root) with the target, out
