@@ -4,12 +4,13 @@
 
 mod common;
 
-use std::collections::{HashMap, HashSet};
+use common::chain::{assert_levels_skin_to_their_static_positions, check_chain};
+
+use std::collections::HashSet;
 
 use clod_viewer::clod::{self, Clod, ClodError, ClodOptions, SimplificationPose, WeightRule};
 use clod_viewer::metrics::{bounds_diagonal, closest_point_on_triangle};
 use clod_viewer::simplify::{CollapseMode, Schedule, StopReason};
-use clod_viewer::vertex_cache::average_cache_miss_ratio;
 use clod_viewer::{import, Character};
 
 const MODELS: [&str; 3] = ["CesiumMan.glb", "Fox.glb", "RiggedSimple.glb"];
@@ -35,95 +36,6 @@ fn every_model() -> Vec<(&'static str, Character)> {
 
 fn build(character: &Character, options: &ClodOptions) -> Clod {
     clod::build(character, options, &mut |_| {}).expect("shared models simplify")
-}
-
-/// `t` rotated to start at its smallest index (the winding kept).
-fn rotated_to_min(mut t: [u32; 3]) -> [u32; 3] {
-    let min = (0..3).min_by_key(|&r| t[r]).unwrap();
-    t.rotate_left(min);
-    t
-}
-
-/// Indices in range, no degenerate triangle, no duplicate but a two-sided sheet, the progressive
-/// mesh's triangles in the vertex cache's order, ancestors valid, errors monotone.
-fn check_chain(name: &str, clod: &Clod) {
-    let pm = &clod.apm.pm;
-    if let Err(broken) = pm.validate() {
-        panic!("{name}: the progressive mesh breaks an invariant: {broken}");
-    }
-    assert!(clod.levels.len() >= 2, "{name}: only {} level(s)", clod.levels.len());
-    for (i, level) in clod.levels.iter().enumerate() {
-        let n = level.vertices.len() as u32;
-        let mut seen = HashMap::new();
-        for t in level.indices.chunks_exact(3) {
-            assert!(t.iter().all(|&v| v < n), "{name} level {i}: index out of range");
-            assert!(
-                t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
-                "{name} level {i}: degenerate triangle {t:?}"
-            );
-            let mut key = [t[0], t[1], t[2]];
-            key.sort();
-            // Two triangles on the same corners must face opposite ways: a two-sided sheet, what
-            // a closed part becomes on its way out (a tetrahedron's first collapse).
-            let windings: &mut Vec<[u32; 3]> = seen.entry(key).or_default();
-            windings.push(rotated_to_min([t[0], t[1], t[2]]));
-            assert!(
-                windings.len() == 1
-                    || (windings.len() == 2 && windings[0] == rotated_to_min([t[0], t[2], t[1]])),
-                "{name} level {i}: duplicate triangle {t:?}"
-            );
-        }
-        // The progressive mesh after the level's collapses, triangle for triangle and winding kept,
-        // in whatever order the level draws them.
-        let active = clod::chain::active_ancestors(pm, level.collapses);
-        let live = pm.triangle_count_after(level.collapses);
-        let mut expected: Vec<[u32; 3]> = pm.indices[..3 * live]
-            .chunks_exact(3)
-            .map(|t| rotated_to_min([t[0], t[1], t[2]].map(|v| active[v as usize])))
-            .collect();
-        let mut drawn: Vec<[u32; 3]> = level
-            .indices
-            .chunks_exact(3)
-            .map(|t| rotated_to_min([t[0], t[1], t[2]].map(|v| level.vertices[v as usize])))
-            .collect();
-        expected.sort_unstable();
-        drawn.sort_unstable();
-        assert!(
-            drawn == expected,
-            "{name} level {i}: not the progressive mesh after {} collapses",
-            level.collapses
-        );
-        // Drawn in vertex-cache order: at 500 triangles and more the progressive mesh's own order
-        // (by collapse) transforms 2.0–2.9 vertices per triangle under a 16-entry cache on these
-        // models, the levels 0.58–1.12.
-        if level.triangle_count() >= 500 {
-            let acmr = average_cache_miss_ratio(&level.indices, level.vertices.len(), 16);
-            assert!(acmr <= 1.25, "{name} level {i}: {acmr} vertices transformed per triangle");
-        }
-        if let Some(coarser) = clod.levels.get(i + 1) {
-            assert!(
-                coarser.triangle_count() < level.triangle_count(),
-                "{name}: levels {i}, {} not decreasing",
-                i + 1
-            );
-            assert!(coarser.error >= level.error, "{name}: error decreases after level {i}");
-            assert_eq!(
-                level.ancestors.len(),
-                level.vertices.len(),
-                "{name} level {i}: one ancestor per vertex"
-            );
-            for (v, &a) in level.vertices.iter().zip(&level.ancestors) {
-                let a = coarser.vertices.get(a as usize).copied();
-                assert_eq!(
-                    a,
-                    Some(pm.ancestor_at(*v, coarser.collapses)),
-                    "{name} level {i}: wrong ancestor of {v}"
-                );
-            }
-        } else {
-            assert!(level.ancestors.is_empty());
-        }
-    }
 }
 
 #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
@@ -156,17 +68,6 @@ fn default_chain_holds_its_invariants_on_every_model() {
         ours.sort();
         input.sort();
         assert_eq!(ours, input, "{name}: level 0 is not the input (winding included)");
-    }
-}
-
-/// Every level of `clod` skinned with `skin` (the simplification pose's) lies within 1e-5 of
-/// `diagonal` of its static positions in that pose: the back-propagation identity.
-fn assert_levels_skin_to_their_static_positions(name: &str, clod: &Clod, skin: &[glam::Mat4], diagonal: f32) {
-    for i in 0..clod.levels.len() {
-        let skinned = clod.level_skinned_positions(i, skin);
-        let fixed = clod.level_pose_positions(i);
-        let worst = skinned.iter().zip(&fixed).map(|(a, b)| a.distance(*b)).fold(0.0f32, f32::max);
-        assert!(worst <= 1e-5 * diagonal, "{name} level {i}: skinned differs from static by {worst}");
     }
 }
 
