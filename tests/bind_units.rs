@@ -10,7 +10,7 @@
 //! was taken for singular and kept its survivor's bind position: the levels were 1.2–1.5× as
 //! far from the surface.
 
-mod common;
+use crate::common;
 
 use clod_viewer::clod::{self, poses, Clod, ClodOptions, SimplificationPose};
 use clod_viewer::import;

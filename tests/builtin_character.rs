@@ -4,7 +4,7 @@
 //! carries normalized skin weights, a closed surface, a UV seam and vertex colours, and stays in
 //! one piece when skinned through every clip.
 
-mod common;
+use crate::common;
 
 use clod_viewer::import::from_glb;
 use clod_viewer::Character;

@@ -2,7 +2,7 @@
 //! flat-shaded robot and many-part character: invariants at every level, the ancestor tables,
 //! and the back-propagation identity at the simplification pose.
 
-mod common;
+use crate::common;
 
 use common::chain::{assert_levels_skin_to_their_static_positions, check_chain};
 

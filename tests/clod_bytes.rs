@@ -2,7 +2,7 @@
 //! models, the cursor over a decoded chain, every truncation and seeded mutations of a small
 //! chain's bytes, tampered chains and a mismatched character.
 
-mod common;
+use crate::common;
 
 use clod_viewer::character::Character;
 use clod_viewer::clod::bytes::{decode, encode, ClodBytesError, FORMAT_VERSION, SOURCE_TAG};

@@ -1,7 +1,7 @@
 //! Flat shading: a faceted mesh simplifies along its faces (normal seams are not constraints), and
 //! the renderer's levels carry each triangle's face normal at both ends of a geomorph.
 
-mod common;
+use crate::common;
 
 use clod_viewer::clod::{self, shading::face_normal, ClodOptions, SimplificationPose};
 use clod_viewer::mesh::PrimitiveRange;

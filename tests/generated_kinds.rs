@@ -4,7 +4,7 @@
 //! (`lowpoly-robot.glb`, `hardsurface.glb`) are tested by the generator's own tests
 //! (`tools/make-character/tests/generated_kinds.rs`), which run its binary.
 
-mod common;
+use crate::common;
 
 use clod_viewer::import::from_glb;
 

@@ -2,7 +2,7 @@
 //! imports to exact numbers, and each kind of broken input is an `Err` whose message names the
 //! problem.
 
-mod common;
+use crate::common;
 
 use clod_viewer::import::{from_bytes, from_glb, from_gltf};
 use clod_viewer::{Character, ImportError};

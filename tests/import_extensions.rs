@@ -3,7 +3,7 @@
 //! them; `KHR_texture_transform` on the base colour texture, gltfpack's uv dequantization) import
 //! to exact values, and every other one is an error that names it and says what to do.
 
-mod common;
+use crate::common;
 
 use clod_viewer::import::from_gltf;
 use clod_viewer::{Character, ImportError};

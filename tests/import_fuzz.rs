@@ -2,7 +2,7 @@
 //! chunks, inflated accessor counts — must each import to `Ok` or `Err`, never panic, and finish
 //! quickly (the whole run is bounded by the test's own runtime: no case may hang).
 
-mod common;
+use crate::common;
 
 use clod_viewer::import::from_glb;
 use common::SplitMix;

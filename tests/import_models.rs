@@ -10,7 +10,7 @@
 // The reference values are pasted verbatim from the script's output (6 decimals, some beyond f32).
 #![allow(clippy::excessive_precision)]
 
-mod common;
+use crate::common;
 
 use clod_viewer::character::AlphaMode;
 use clod_viewer::import::{from_bytes, from_glb, from_gltf};

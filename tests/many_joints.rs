@@ -5,8 +5,6 @@
 //! same angle, so the chain curls and every vertex's skinned position has a closed form.
 //! Checked: the import, CPU skinning against that closed form, and the LOD chain built from it.
 
-mod common;
-
 use clod_viewer::clod::{self, ClodOptions};
 use clod_viewer::import::from_gltf;
 use glam::{Quat, Vec3};

@@ -5,7 +5,7 @@
 //! the `weights` path. Exact expected values; then every level of the chain built from it.
 //! Last, invariants on shared models given seeded random sparse targets.
 
-mod common;
+use crate::common;
 
 use clod_viewer::clod::bytes::{decode, encode, ClodBytesError};
 use clod_viewer::clod::{self, Clod, ClodOptions, SimplificationPose};

@@ -1,8 +1,8 @@
 //! Progressive-mesh invariants on seeded random meshes: validity at every checked level, lossless
 //! refinement, monotone error, ancestors, incremental cursor == rebuild, determinism.
 
-mod common;
-mod meshgen;
+use crate::common;
+use crate::meshgen;
 
 use clod_viewer::clod::shading::ShadingWeld;
 use clod_viewer::simplify::{CollapseMode, Schedule, SimplifyOptions, StopReason};

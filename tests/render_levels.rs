@@ -2,7 +2,7 @@
 //! coarser level's vertex (so a geomorph at t = 1 draws the coarser level), material ranges cover
 //! every triangle, and the full-mesh source is the mesh itself.
 
-mod common;
+use crate::common;
 
 use clod_viewer::clod::shading::face_normal;
 use clod_viewer::clod::{self, ClodOptions};

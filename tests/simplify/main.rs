@@ -1,8 +1,8 @@
 //! Hand-drawn inputs with exact expected simplification results.
 
-#[path = "../meshgen/mod.rs"]
-mod meshgen;
 mod parts;
+
+use crate::meshgen;
 
 use clod_viewer::metrics::closest_point_on_triangle;
 use clod_viewer::progressive::ProgressiveMesh;

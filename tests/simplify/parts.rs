@@ -2,8 +2,8 @@
 //! its clearance from the other parts (`Rule::ClosedPartsByClearance`), and open parts vanishing
 //! within the level's reach (`Rule::OpenPartsWithinReach`), each held to the distance floor.
 
+use super::options;
 use crate::meshgen::{check_cursor, check_invariants, grid, Mesh};
-use crate::options;
 use clod_viewer::metrics::closest_point_on_triangle;
 use clod_viewer::simplify::{CollapseMode, Rule, Rules, Schedule, SimplifyOptions, StopReason};
 use glam::Vec3;
