@@ -53,7 +53,7 @@ elif [ -n "${BROWSER_TESTS:-}" ]; then
 else
   files=(tests/browser/views.test.mjs tests/browser/fairness.test.mjs tests/browser/pop-spike.test.mjs
     tests/browser/webgl2.test.mjs tests/browser/page.test.mjs tests/browser/embed.test.mjs tests/browser/package.test.mjs
-    tests/browser/errors.test.mjs tests/browser/sync.test.mjs tests/browser/meter.test.mjs tests/browser/crowd.test.mjs
+    tests/browser/errors.test.mjs tests/browser/meter.test.mjs tests/browser/crowd.test.mjs
     tests/browser/morph.test.mjs tests/browser/first-impression.test.mjs tests/browser/flip.test.mjs)
 fi
 echo "== browser tests against $url: ${files[*]}"
