@@ -124,6 +124,8 @@ export interface MeterChange {
 
 export interface MeterState {
   on: boolean;
+  /** FLIP is measured (`setState({ flip })`). */
+  flipOn: boolean;
   /** The meter's picture size per view, `[width, height]` pixels. */
   size: [number, number];
   transitions: number;
@@ -134,6 +136,7 @@ export interface MeterState {
   alpha: MethodPop | null;
   geomorph: MethodPop | null;
   changes: MeterChange[];
+  /** Null where the GPU cannot compute FLIP, FLIP is off, or before a frame needed it. */
   flip: MeterFlip | null;
 }
 
@@ -243,6 +246,9 @@ export interface ViewerSettings {
   /** 1..16. */
   magnify?: number;
   meter?: boolean;
+  /** The meter also measures LDR-FLIP (on by default; on a software rasterizer most of a measured
+   * frame's time). */
+  flip?: boolean;
   variant?: 'naive' | 'opaque-first' | 'dither';
   /** One to three methods: the views, in order. */
   methods?: Method[];

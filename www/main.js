@@ -223,6 +223,7 @@ function wireControls() {
   $('transition-speed').addEventListener('change', (e) => set({ transitionSpeed: Number(e.target.value) }));
   $('magnify').addEventListener('change', (e) => set({ magnify: Number(e.target.value) }));
   $('meter-on').addEventListener('change', (e) => set({ meter: e.target.checked }));
+  $('flip-on').addEventListener('change', (e) => set({ flip: e.target.checked }));
   $('variant').addEventListener('change', (e) => set({ variant: e.target.value }));
   $('overlay').addEventListener('change', (e) => set({ overlay: e.target.value }));
   const crowd = () => set({ mode: $('crowd-on').checked ? 'crowd' : 'single', count: Number($('crowd-count').value) });
@@ -339,7 +340,7 @@ function showStats() {
   if (s.meter.on) {
     rows.push(['FLIP', s.meter.flip
       ? `LDR-FLIP against full detail, mean per view at ${s.meter.flip.ppd.toFixed(1)} px per degree (the meter's picture when the view is seen at 67 px per degree): ${s.views.map((v, i) => `${v.method} ${(s.meter.flip.views[i] ?? 0).toFixed(4)}`).join(' · ')}`
-      : 'not measured (this GPU cannot render into float targets, or nothing to compare yet)']);
+      : s.meter.flipOn ? 'not measured (this GPU cannot render into float targets, or nothing to compare yet)' : 'off']);
   }
   drawMeterChart();
   showMeterTable(s.meter);

@@ -97,6 +97,7 @@ fn state(full: bool) -> ViewerState {
         magnify: Num(1.0),
         meter: MeterState {
             on: true,
+            flip_on: true,
             size: [Num(256.0), Num(256.0)],
             transitions: 3,
             samples: 600,
@@ -162,6 +163,7 @@ fn settings() -> ViewerSettings {
         transition_speed: n(0.25),
         magnify: n(4.0),
         meter: Some(Flag(false)),
+        flip: Some(Flag(false)),
         variant: Some(OneOf(BlendVariant::Dither)),
         methods: Some(List(vec![OneOf(Method::Popping), OneOf(Method::Geomorph)])),
         continuous_triangles: Some(Some(Number(4000.0))),

@@ -71,6 +71,9 @@ pub struct ViewerSettings {
     pub magnify: Option<Number>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub meter: Option<Flag>,
+    /// The meter also measures LDR-FLIP.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flip: Option<Flag>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub variant: Option<OneOf<BlendVariant>>,
     /// One to three methods: the views, in order.
@@ -183,6 +186,7 @@ impl ViewerSettings {
             // changes; further, a view shows a few pixels of the real one.
             magnify: f(within(self.magnify, "magnify", 1.0, 16.0)?),
             meter: self.meter.map(|b| b.0),
+            flip: self.flip.map(|b| b.0),
             variant: self.variant.map(|v| v.0),
             methods,
             overlay: self.overlay.map(|o| o.0),

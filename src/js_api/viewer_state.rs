@@ -138,8 +138,11 @@ pub struct ViewState {
 
 /// The live meter's summary.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct MeterState {
     pub on: bool,
+    /// FLIP is measured (`setState({ flip })`).
+    pub flip_on: bool,
     /// The meter's picture size per view, `[width, height]` pixels.
     pub size: [Num; 2],
     pub transitions: u32,
@@ -151,7 +154,8 @@ pub struct MeterState {
     pub geomorph: Option<MethodPop>,
     /// Per view, how its difference from full detail changes over the history.
     pub changes: Vec<MeterChange>,
-    /// LDR-FLIP in the meter; `None` where the GPU cannot compute it (or before a frame needed it).
+    /// LDR-FLIP in the meter; `None` where the GPU cannot compute it, FLIP is off, or before a
+    /// frame needed it.
     pub flip: Option<MeterFlip>,
 }
 

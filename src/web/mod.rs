@@ -638,6 +638,7 @@ impl Inner {
             views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
             overlay: m.settings.overlay,
             meter: None,
+            flip: m.settings.flip,
             controls: None,
             crowd,
         }

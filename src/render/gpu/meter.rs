@@ -233,7 +233,7 @@ impl Renderer {
         };
         let mut flip_ppd = None;
         match &self.flip {
-            Some(flip) if !flip_pairs.is_empty() && !meter.errors.is_empty() => {
+            Some(flip) if frame.flip && !flip_pairs.is_empty() && !meter.errors.is_empty() => {
                 let view_height = frame.views[0].0.height.max(1) as f32;
                 let ppd = DEFAULT_PPD * METER_HEIGHT as f32 / view_height;
                 flip_ppd = Some(flip.set_kernels(&self.queue, ppd, !self.color_format.is_srgb()));

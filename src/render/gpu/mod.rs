@@ -116,6 +116,8 @@ pub struct FrameInput<'a> {
     pub overlay: Overlay,
     /// Measure this frame for the live meter, tagged with this number (see `meter`).
     pub meter: Option<u64>,
+    /// The meter's measured frames also compute LDR-FLIP (see `meter`).
+    pub flip: bool,
     /// Each view's control for the meter: its plan of the previous measured frame, drawn at this
     /// frame's pose and camera (see [`crate::render::meter`]); `None` measures no steps.
     pub controls: Option<[&'a ViewPlan; 3]>,

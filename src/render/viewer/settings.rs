@@ -53,6 +53,10 @@ pub struct Settings {
     pub magnify: f32,
     /// The live transition meter runs (four small extra draws and a readback per frame).
     pub meter: bool,
+    /// The meter also measures LDR-FLIP ([`crate::render::flip`]: two fragment passes per
+    /// picture and one per pair; on SwiftShader, a software rasterizer, 60 % of a measured
+    /// frame's time).
+    pub flip: bool,
     pub variant: BlendVariant,
     /// Method of each view, left to right (top to bottom when stacked); only the first
     /// `view_count` are shown.
@@ -100,6 +104,7 @@ impl Default for Settings {
             transition_speed: 1.0,
             magnify: 1.0,
             meter: true,
+            flip: true,
             variant,
             methods: [Method::Popping, Method::AlphaBlend(variant), Method::Geomorph],
             view_count: 3,
@@ -156,6 +161,7 @@ pub struct Update {
     pub transition_speed: Option<f32>,
     pub magnify: Option<f32>,
     pub meter: Option<bool>,
+    pub flip: Option<bool>,
     pub variant: Option<BlendVariant>,
     /// The methods of the first views and how many views there are.
     pub methods: Option<([Method; 3], usize)>,
@@ -214,6 +220,7 @@ impl Update {
         set!(transition_speed, self.transition_speed);
         set!(magnify, self.magnify);
         set!(meter, self.meter);
+        set!(flip, self.flip);
         set!(crowd, self.crowd);
         set!(crowd_lod, self.crowd_lod);
         set!(morphs, self.morphs);
