@@ -12,7 +12,7 @@
 use glam::{Quat, Vec3};
 
 use crate::facets::sweep;
-use crate::math::{axis_angle, deg, sin_cos};
+use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
 
@@ -208,11 +208,6 @@ pub fn critter() -> Design {
         vec![("Fur".to_string(), [0.85, 0.42, 0.12, 1.0]), ("Socks".to_string(), [0.15, 0.1, 0.08, 1.0])];
     let clips = clips(&joints);
     Design { scene: "Critter", joints, materials, meshes, clips }
-}
-
-/// Local rotation about model axis `axis` by `degrees`.
-fn turn(axis: Vec3, degrees: f32) -> Quat {
-    axis_angle(axis.normalize(), deg(degrees))
 }
 
 fn clips(joints: &[RJoint]) -> Vec<RClip> {

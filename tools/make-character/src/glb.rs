@@ -25,6 +25,38 @@ pub struct Builder {
 }
 
 impl Builder {
+    /// An empty document and binary chunk.
+    pub fn new() -> Builder {
+        Builder { root: json::Root::default(), bin: Vec::new() }
+    }
+
+    /// The `.glb`: the binary chunk padded to 4 bytes as buffer 0, the generator's asset record,
+    /// the JSON and the chunk.
+    pub fn into_glb(mut self) -> Vec<u8> {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        self.root.push(json::Buffer {
+            byte_length: USize64::from(self.bin.len()),
+            name: None,
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+        self.root.asset = json::Asset {
+            generator: Some("clod-viewer tools/make-character".to_string()),
+            version: "2.0".to_string(),
+            ..Default::default()
+        };
+        let json_text = json::serialize::to_vec(&self.root).expect("glTF JSON always serializes");
+        let glb = gltf::binary::Glb {
+            header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
+            json: std::borrow::Cow::Owned(json_text),
+            bin: Some(std::borrow::Cow::Owned(self.bin)),
+        };
+        glb.to_vec().expect("GLB of in-memory data always writes")
+    }
+
     /// Appends `bytes` as a new buffer view (4-byte aligned) and returns an accessor over it.
     #[allow(clippy::too_many_arguments)]
     pub fn accessor(
@@ -105,7 +137,7 @@ pub fn model_from_joint_rest(joints: &[Joint]) -> Vec<Mat4> {
 /// Serializes the character into GLB bytes.
 pub fn write(joints: &[Joint], primitives: &[Primitive], clips: &[Clip]) -> Vec<u8> {
     use json::accessor::{ComponentType as C, Type as T};
-    let mut b = Builder { root: json::Root::default(), bin: Vec::new() };
+    let mut b = Builder::new();
 
     // Materials, one per region, in region order.
     for region in Region::ALL {
@@ -241,29 +273,7 @@ pub fn write(joints: &[Joint], primitives: &[Primitive], clips: &[Clip]) -> Vec<
         write_clip(&mut b, clip);
     }
 
-    while b.bin.len() % 4 != 0 {
-        b.bin.push(0);
-    }
-    b.root.push(json::Buffer {
-        byte_length: USize64::from(b.bin.len()),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
-    b.root.asset = json::Asset {
-        generator: Some("clod-viewer tools/make-character".to_string()),
-        version: "2.0".to_string(),
-        ..Default::default()
-    };
-
-    let json_text = json::serialize::to_vec(&b.root).expect("glTF JSON always serializes");
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
-        json: std::borrow::Cow::Owned(json_text),
-        bin: Some(std::borrow::Cow::Owned(b.bin)),
-    };
-    glb.to_vec().expect("GLB of in-memory data always writes")
+    b.into_glb()
 }
 
 fn write_clip(b: &mut Builder, clip: &Clip) {

@@ -13,7 +13,7 @@
 
 use glam::{Quat, Vec3};
 
-use crate::math::{axis_angle, deg, sin_cos};
+use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
 use crate::surfaces::{capsule, ellipsoid, rounded_box, torus, tube};
@@ -473,11 +473,6 @@ pub fn hardsurface(detail: f64) -> Design {
     let meshes = vec![RMesh { name: "Armour", skin, primitives, default_weights: Vec::new() }];
     let clips = clips(&joints);
     Design { scene: "HardSurface", joints, materials, meshes, clips }
-}
-
-/// Local rotation about model axis `axis` by `degrees`.
-fn turn(axis: Vec3, degrees: f32) -> Quat {
-    axis_angle(axis.normalize(), deg(degrees))
 }
 
 fn clips(joints: &[RJoint]) -> Vec<RClip> {

@@ -29,3 +29,8 @@ pub fn axis_angle(axis: Vec3, angle: f32) -> Quat {
 pub fn atan2(y: f32, x: f32) -> f32 {
     libm::atan2f(y, x)
 }
+
+/// Local rotation about model axis `axis` (any length) by `degrees`.
+pub fn turn(axis: Vec3, degrees: f32) -> Quat {
+    axis_angle(axis.normalize(), deg(degrees))
+}

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use glam::{Mat4, Vec3};
 use gltf_json as json;
-use json::validation::{Checked::Valid, USize64};
+use json::validation::Checked::Valid;
 
 use crate::glb::{flatten3, Builder};
 use crate::robot::Design;
@@ -27,7 +27,7 @@ fn vec3_accessor(b: &mut Builder, values: &[Vec3], bounds: bool) -> json::Index<
 /// Serializes the design into GLB bytes.
 pub fn write(design: &Design) -> Vec<u8> {
     use json::accessor::{ComponentType as C, Type as T};
-    let mut b = Builder { root: json::Root::default(), bin: Vec::new() };
+    let mut b = Builder::new();
     for (name, color) in &design.materials {
         b.root.push(json::Material {
             name: Some(name.clone()),
@@ -189,26 +189,5 @@ pub fn write(design: &Design) -> Vec<u8> {
         });
     }
 
-    while b.bin.len() % 4 != 0 {
-        b.bin.push(0);
-    }
-    b.root.push(json::Buffer {
-        byte_length: USize64::from(b.bin.len()),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
-    b.root.asset = json::Asset {
-        generator: Some("clod-viewer tools/make-character".to_string()),
-        version: "2.0".to_string(),
-        ..Default::default()
-    };
-    let json_text = json::serialize::to_vec(&b.root).expect("glTF JSON always serializes");
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
-        json: std::borrow::Cow::Owned(json_text),
-        bin: Some(std::borrow::Cow::Owned(b.bin)),
-    };
-    glb.to_vec().expect("GLB of in-memory data always writes")
+    b.into_glb()
 }

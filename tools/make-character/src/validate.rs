@@ -105,33 +105,41 @@ pub fn load(bytes: &[u8]) -> Result<Loaded, String> {
     for animation in gltf.animations() {
         let mut channels = Vec::new();
         for channel in animation.channels() {
-            let r = channel.reader(buffers);
-            let times: Vec<f32> = r.read_inputs().ok_or("no sampler input")?.collect();
-            let interpolation = match channel.sampler().interpolation() {
-                gltf::animation::Interpolation::Linear => Interpolation::Linear,
-                gltf::animation::Interpolation::Step => Interpolation::Step,
-                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-            };
-            let curve = match r.read_outputs().ok_or("no sampler output")? {
-                gltf::animation::util::ReadOutputs::Rotations(q) => {
-                    let values = q.into_f32().map(Quat::from_array).collect();
-                    ChannelCurve::Rotation(
-                        Curve::new(times, values, interpolation).map_err(|e| e.to_string())?,
-                    )
-                }
-                gltf::animation::util::ReadOutputs::Translations(t) => {
-                    let values = t.map(Vec3::from).collect();
-                    ChannelCurve::Translation(
-                        Curve::new(times, values, interpolation).map_err(|e| e.to_string())?,
-                    )
-                }
-                _ => return Err("unexpected animated property".to_string()),
-            };
-            channels.push(Channel { node: channel.target().node().index(), curve });
+            channels
+                .push(read_channel(&channel, buffers)?.ok_or("unexpected animated property: morph weights")?);
         }
         out.clips.push(Clip::new(animation.name().unwrap_or(""), channels));
     }
     Ok(out)
+}
+
+/// One animation channel as the viewer's animation types read it: a joint's rotation or
+/// translation curve, `None` for morph-target weights; an error for scale, which the generator
+/// never writes.
+pub fn read_channel<'a, 's>(
+    channel: &gltf::animation::Channel<'a>,
+    buffers: impl Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+) -> Result<Option<Channel>, String> {
+    use gltf::animation::util::ReadOutputs;
+    let r = channel.reader(buffers);
+    let times: Vec<f32> = r.read_inputs().ok_or("no sampler input")?.collect();
+    let interpolation = match channel.sampler().interpolation() {
+        gltf::animation::Interpolation::Linear => Interpolation::Linear,
+        gltf::animation::Interpolation::Step => Interpolation::Step,
+        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+    };
+    let curve = match r.read_outputs().ok_or("no sampler output")? {
+        ReadOutputs::Rotations(q) => ChannelCurve::Rotation(
+            Curve::new(times, q.into_f32().map(Quat::from_array).collect(), interpolation)
+                .map_err(|e| e.to_string())?,
+        ),
+        ReadOutputs::Translations(t) => ChannelCurve::Translation(
+            Curve::new(times, t.map(Vec3::from).collect(), interpolation).map_err(|e| e.to_string())?,
+        ),
+        ReadOutputs::MorphTargetWeights(_) => return Ok(None),
+        ReadOutputs::Scales(_) => return Err("unexpected animated property: scale".to_string()),
+    };
+    Ok(Some(Channel { node: channel.target().node().index(), curve }))
 }
 
 /// Linear blend skinning of positions and normals with the pose's skin matrices.

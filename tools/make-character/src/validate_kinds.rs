@@ -9,10 +9,10 @@
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
-use clod_viewer::animation::{Channel, ChannelCurve, Clip, Curve, Interpolation, Wrap};
+use clod_viewer::animation::{Clip, Wrap};
 use clod_viewer::skeleton::{Node, Skeleton, SkinJoint, Transform};
 
-use crate::validate::{bad_edges, weld_by_position, Loaded};
+use crate::validate::{bad_edges, read_channel, weld_by_position, Loaded};
 
 /// One primitive as read back.
 struct Prim {
@@ -90,25 +90,10 @@ fn read(bytes: &[u8]) -> Result<Read, String> {
     for animation in gltf.animations() {
         let mut channels = Vec::new();
         for channel in animation.channels() {
-            let r = channel.reader(buffers);
-            let times: Vec<f32> = r.read_inputs().ok_or("no sampler input")?.collect();
-            let interpolation = match channel.sampler().interpolation() {
-                gltf::animation::Interpolation::Linear => Interpolation::Linear,
-                gltf::animation::Interpolation::Step => Interpolation::Step,
-                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-            };
-            let curve = match r.read_outputs().ok_or("no sampler output")? {
-                gltf::animation::util::ReadOutputs::Rotations(q) => ChannelCurve::Rotation(
-                    Curve::new(times, q.into_f32().map(Quat::from_array).collect(), interpolation)
-                        .map_err(|e| e.to_string())?,
-                ),
-                gltf::animation::util::ReadOutputs::MorphTargetWeights(_) => {
-                    weight_channels += 1;
-                    continue;
-                }
-                _ => return Err("unexpected animated property".to_string()),
-            };
-            channels.push(Channel { node: channel.target().node().index(), curve });
+            match read_channel(&channel, buffers)? {
+                Some(channel) => channels.push(channel),
+                None => weight_channels += 1,
+            }
         }
         clips.push(Clip::new(animation.name().unwrap_or(""), channels));
     }
