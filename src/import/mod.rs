@@ -342,7 +342,10 @@ fn without_nodeless_channels(json: &[u8], warnings: &mut Vec<String>) -> Option<
     if dropped.is_empty() {
         return None;
     }
-    let root = gltf_json::deserialize::from_value(document).ok()?;
+    // Written out and read again rather than read from the `Value`: `from_value` would compile a
+    // second copy of every glTF type's derived reader (for `Value` as the source) into the wasm.
+    let json = gltf_json::serialize::to_vec(&document).ok()?;
+    let root = gltf_json::deserialize::from_slice(&json).ok()?;
     warnings.push(format!(
         "animation channels that target no node (KHR_animation_pointer: materials, lights, cameras) are \
          dropped: {}",
