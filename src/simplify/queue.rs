@@ -68,9 +68,11 @@ impl Candidate {
         (self.key, self.v)
     }
 
+    /// Whether this comes first in [`Candidate::order`]. With `|` and `&` rather than `||` and
+    /// `&&`: compared without a branch (see [`least_of_four`]).
     #[inline]
     fn before(&self, other: &Candidate) -> bool {
-        (self.key, self.v) < (other.key, other.v)
+        (self.key < other.key) | ((self.key == other.key) & (self.v < other.v))
     }
 }
 
@@ -187,12 +189,17 @@ impl Queue {
             if first >= len {
                 break;
             }
-            let mut best = first;
-            for child in first + 1..(first + ARITY).min(len) {
-                if self.items[child].before(&self.items[best]) {
-                    best = child;
+            let best = if first + ARITY <= len {
+                first + least_of_four(&self.items[first..first + ARITY])
+            } else {
+                let mut best = first;
+                for child in first + 1..len {
+                    if self.items[child].before(&self.items[best]) {
+                        best = child;
+                    }
                 }
-            }
+                best
+            };
             if !self.items[best].before(&item) {
                 break;
             }
@@ -221,6 +228,21 @@ impl Queue {
     }
 }
 
+/// The index of the first least of four children (a full node, [`ARITY`] being 4), by a
+/// tournament of selects rather than a loop of branches: which child is least is what the branch
+/// predictor cannot guess, and most sifts go down a full node (cachegrind on the built-in
+/// character: about a million fewer mispredicted branches per build, in its model).
+#[inline]
+fn least_of_four(children: &[Candidate]) -> usize {
+    let left = usize::from(children[1].before(&children[0]));
+    let right = 2 + usize::from(children[3].before(&children[2]));
+    if children[right].before(&children[left]) {
+        right
+    } else {
+        left
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,6 +257,20 @@ mod tests {
         // Equal costs: not in id order (0, 1, 2 rank 0, 0x9E3779B1, 0x3C6EF362).
         let ranks: Vec<u64> = (0..3).map(|u| Candidate::new(1.0, u, 0, 0).order().0).collect();
         assert!(ranks[2] < ranks[1]);
+    }
+
+    #[test]
+    fn the_least_of_four_is_the_first_least() {
+        let node = |costs: [f32; 4]| costs.map(|cost| Candidate::new(cost, 1, 2, 0));
+        for (costs, least) in
+            [([1.0, 2.0, 3.0, 4.0], 0), ([4.0, 3.0, 2.0, 1.0], 3), ([2.0, 1.0, 1.0, 3.0], 1)]
+        {
+            assert_eq!(least_of_four(&node(costs)), least, "{costs:?}");
+        }
+        let mut tied = node([5.0; 4]);
+        assert_eq!(least_of_four(&tied), 0, "ties go to the first");
+        tied[2].v = 1;
+        assert_eq!(least_of_four(&tied), 2, "then by v");
     }
 
     #[test]
