@@ -64,6 +64,37 @@ struct Queue {
     last_state: ViewerState,
 }
 
+/// What one frame draws besides the model's plans: the camera and the pose's skin matrices,
+/// morph weights and bone lines, made by `Inner::advance`.
+struct Posed {
+    camera: CameraRaw,
+    skin: Vec<Mat4>,
+    /// Morph-target weights of the same pose, one per target.
+    morph_weights: Vec<f32>,
+    /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
+    bones: Vec<[f32; 3]>,
+}
+
+impl Posed {
+    /// What the renderer draws this frame: this pose and camera, and each view's plan of `m`.
+    fn frame_input<'a>(&'a self, m: &'a ViewerModel) -> FrameInput<'a> {
+        let crowd = m.crowd.as_ref().map(|c| &c.frame);
+        FrameInput {
+            camera: self.camera,
+            skin: &self.skin,
+            morph_weights: &self.morph_weights,
+            // The skeleton is one pose in model space: the single character's overlay only.
+            bones: if crowd.is_some() { &[] } else { &self.bones },
+            views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
+            overlay: m.settings.overlay,
+            meter: None,
+            flip: m.settings.flip,
+            controls: None,
+            crowd,
+        }
+    }
+}
+
 struct Inner {
     character: Character,
     clod: Option<Clod>,
@@ -73,7 +104,8 @@ struct Inner {
     last_now_ms: Option<f64>,
     /// The slider's `(finer, coarser)` states the renderer holds as its continuous levels.
     continuous_uploaded: Option<(usize, usize)>,
-    camera_raw: CameraRaw,
+    /// The camera, skin, morph weights and bones of the frame `advance` made.
+    posed: Posed,
     /// The live transition meter, and the frames drawn for it whose pictures are not back yet
     /// (frame number, dolly seconds, the transition shown).
     meter: TransitionMeter,
@@ -85,11 +117,6 @@ struct Inner {
     flip_ppd: Option<f32>,
     /// The last transition's film strip (see [`crate::render::replay`]).
     replay: ReplayRecorder,
-    skin: Vec<Mat4>,
-    /// Morph-target weights of the same pose, one per target.
-    morph_weights: Vec<f32>,
-    /// The skeleton overlay's line list of the same pose (model space; see `bone_segments`).
-    bones: Vec<[f32; 3]>,
     frames: u64,
     errors: Vec<String>,
     warnings: Vec<String>,
@@ -219,15 +246,17 @@ impl Viewer {
             model,
             last_now_ms: None,
             continuous_uploaded: None,
-            camera_raw: CameraRaw::zeroed(),
+            posed: Posed {
+                camera: CameraRaw::zeroed(),
+                skin: Vec::new(),
+                morph_weights: Vec::new(),
+                bones: Vec::new(),
+            },
             meter: TransitionMeter::default(),
             meter_pending: Default::default(),
             meter_controls: None,
             flip_ppd: None,
             replay: ReplayRecorder::default(),
-            skin: Vec::new(),
-            morph_weights: Vec::new(),
-            bones: Vec::new(),
             frames: 0,
             errors: Vec::new(),
             warnings,
@@ -373,10 +402,12 @@ impl Viewer {
     pub fn read_pixels(&self) -> js_sys::Promise {
         let inner = Rc::clone(&self.inner);
         wasm_bindgen_futures::future_to_promise(async move {
-            let guard = wait_for(&inner).await;
-            let input = guard.frame_input();
-            let pixels =
-                guard.renderer.read_pixels(&input).await.map_err(|e| JsValue::from_str(&e.to_string()))?;
+            let mut guard = wait_for(&inner).await;
+            let Inner { posed, model, renderer, .. } = &mut *guard;
+            let pixels = renderer
+                .read_pixels(&posed.frame_input(model))
+                .await
+                .map_err(|e| JsValue::from_str(&e.to_string()))?;
             let out = js_sys::Object::new();
             let set = |k: &str, v: JsValue| js_sys::Reflect::set(&out, &k.into(), &v).map(|_| ());
             set("width", pixels.width.into())?;
@@ -437,7 +468,7 @@ impl Viewer {
                 let max = crate::render::gpu::MAX_PPD;
                 return Err(JsError::new(&format!("flipImages: ppd in (0, {max}]")).into());
             }
-            let guard = wait_for(&inner).await;
+            let mut guard = wait_for(&inner).await;
             let map = guard
                 .renderer
                 .flip_map(&reference, &test, width, height, ppd)
@@ -538,7 +569,7 @@ impl Inner {
         self.model.advance(dt);
         self.upload_continuous();
         self.upload_morph_pairs();
-        self.camera_raw = match &self.model.crowd {
+        self.posed.camera = match &self.model.crowd {
             Some(c) => {
                 self.renderer.set_crowd_palette(&c.palette, self.model.settings.morphs);
                 self.renderer.set_crowd_instances(&c.frame);
@@ -552,7 +583,7 @@ impl Inner {
             Some(clip) => self.character.pose_at(clip, time),
             None => self.character.skeleton.rest_pose(),
         };
-        self.morph_weights = match clip {
+        self.posed.morph_weights = match clip {
             _ if !self.model.settings.morphs => Vec::new(),
             Some(clip) => self.character.morph_weights_at(clip, time),
             None => self.character.default_morph_weights(),
@@ -560,8 +591,8 @@ impl Inner {
         // `Character::skin_matrices` in two steps, so the bones share the pose's node matrices.
         let skeleton = &self.character.skeleton;
         let model_from_node = skeleton.model_from_node(&pose);
-        self.skin = skeleton.skin_matrices(&model_from_node);
-        self.bones = bone_segments(skeleton, &model_from_node);
+        self.posed.skin = skeleton.skin_matrices(&model_from_node);
+        self.posed.bones = bone_segments(skeleton, &model_from_node);
     }
 
     /// Starts or stops crowd mode as the settings ask, and samples the pose palette again when
@@ -625,30 +656,11 @@ impl Inner {
         }
     }
 
-    /// What the renderer draws this frame: camera, skin and bone matrices, each view's plan.
-    fn frame_input(&self) -> FrameInput<'_> {
-        let m = &self.model;
-        let crowd = m.crowd.as_ref().map(|c| &c.frame);
-        FrameInput {
-            camera: self.camera_raw,
-            skin: &self.skin,
-            morph_weights: &self.morph_weights,
-            // The skeleton is one pose in model space: the single character's overlay only.
-            bones: if crowd.is_some() { &[] } else { &self.bones },
-            views: [0, 1, 2].map(|i| (m.layout.views[i], &m.plans[i])),
-            overlay: m.settings.overlay,
-            meter: None,
-            flip: m.settings.flip,
-            controls: None,
-            crowd,
-        }
-    }
-
     fn draw(&mut self) {
         self.collect_meter();
         let tag = self.model.settings.meter.then_some(self.frames);
         let controls = self.meter_controls.clone().unwrap_or_else(|| self.model.plans.clone());
-        let mut input = self.frame_input();
+        let mut input = self.posed.frame_input(&self.model);
         input.meter = tag;
         input.controls = Some([&controls[0], &controls[1], &controls[2]]);
         let measured = self.renderer.render(&input);

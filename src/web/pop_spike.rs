@@ -131,7 +131,7 @@ impl Inner {
             self.model.settings.manual_distance = crossing * (1.0 + o.sweep * (f - 0.25));
             self.advance(start_ms + (i + 1) as f64 * FRAME_SECONDS * 1000.0);
             selected.push(self.model.schedule.selected);
-            let input = self.frame_input();
+            let input = self.posed.frame_input(&self.model);
             let pixels = self.renderer.read_pixels(&input).await.map_err(|e| e.to_string())?;
             meter.push(pixels.rgba, pixels.width, self.model.layout.views);
         }

@@ -71,8 +71,7 @@ impl Renderer {
         rect: &Rect,
         picture: usize,
     ) {
-        let meter = self.meter.borrow();
-        let (Some(meter), Some(overlay)) = (meter.as_ref(), self.difference.as_ref()) else { return };
+        let (Some(meter), Some(overlay)) = (self.meter.as_ref(), self.difference.as_ref()) else { return };
         let (Some(reference), Some(shown)) = (meter.picture(0), meter.picture(picture)) else { return };
         let offset = index as u64 * AREA_STRIDE;
         let area = AreaRaw { origin, size: [rect.width as f32, rect.height as f32] };

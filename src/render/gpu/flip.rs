@@ -22,7 +22,7 @@ pub(super) struct FlipGpu {
     error_layout: wgpu::BindGroupLayout,
     kernels: wgpu::Buffer,
     /// The kernels in the uniform: ppd and whether the pictures are sRGB-encoded.
-    written: std::cell::Cell<Option<(f32, bool)>>,
+    written: Option<(f32, bool)>,
 }
 
 /// A picture's horizontal filters (see `fs_horizontal`).
@@ -166,15 +166,20 @@ impl FlipGpu {
 
     /// Writes the kernels for `ppd` (clamped to what the shader holds) and whether the pictures'
     /// values are sRGB-encoded; returns the ppd used.
-    pub(super) fn set_kernels(&self, queue: &wgpu::Queue, ppd: f32, encoded: bool) -> f32 {
+    pub(super) fn set_kernels(&mut self, queue: &wgpu::Queue, ppd: f32, encoded: bool) -> f32 {
         let ppd = ppd.clamp(1.0, MAX_PPD);
-        if self.written.get() != Some((ppd, encoded)) {
+        if self.written != Some((ppd, encoded)) {
             let mut raw = FlipKernels::new(ppd).raw().expect("the ppd is clamped to fit");
             raw.radii[2] = u32::from(encoded);
             queue.write_buffer(&self.kernels, 0, bytemuck::bytes_of(&raw));
-            self.written.set(Some((ppd, encoded)));
+            self.written = Some((ppd, encoded));
         }
         ppd
+    }
+
+    /// The pixels per degree of the kernels in the uniform (see [`FlipGpu::set_kernels`]).
+    pub(super) fn ppd(&self) -> Option<f32> {
+        self.written.map(|(ppd, _)| ppd)
     }
 
     fn pass<'e>(
@@ -269,14 +274,14 @@ impl Renderer {
     /// # Errors
     /// [`RenderError::Readback`] when the map cannot be read back.
     pub async fn flip_map(
-        &self,
+        &mut self,
         reference: &[u8],
         test: &[u8],
         width: u32,
         height: u32,
         ppd: f32,
     ) -> Result<Option<Vec<f32>>, RenderError> {
-        let Some(flip) = &self.flip else { return Ok(None) };
+        let Some(flip) = self.flip.as_mut() else { return Ok(None) };
         let upload = |pixels: &[u8]| {
             self.device.create_texture_with_data(
                 &self.queue,

@@ -70,7 +70,9 @@ pub struct MeterFrame {
     pub flip_ppd: Option<f32>,
 }
 
-struct Readback {
+/// A measured frame's pictures on their way back: the buffer they were copied into, and what
+/// they are.
+pub(super) struct Readback {
     buffer: wgpu::Buffer,
     /// `None` while mapping, then whether it mapped.
     mapped: Rc<Cell<Option<bool>>>,
@@ -158,35 +160,60 @@ impl MeterGpu {
 }
 
 impl Renderer {
-    /// Records the meter's draws of `frame` into `encoder` and returns the picture of each view
-    /// (an index; 0 is the reference), and whether they will be read back. With `tag`, the
-    /// pictures and the views' controls (`frame.controls`) are also copied for reading back
-    /// (started by [`Renderer::map_meter`] after the submit) unless every readback is in flight;
-    /// without, the views are drawn for the difference overlay only.
+    /// Makes the meter's pictures fit `frame`'s views and, for a measured frame that computes
+    /// FLIP, writes FLIP's kernels for its pixels per degree; returns a readback buffer for a
+    /// measured frame unless every one is in flight (that frame is then not measured).
+    pub(super) fn prepare_meter(&mut self, frame: &FrameInput) -> Option<wgpu::Buffer> {
+        let aspect = frame.views[0].0.aspect();
+        let fits = |m: &MeterGpu| {
+            m.width == ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT)
+        };
+        let meter = match &mut self.meter {
+            Some(meter) if fits(meter) => meter,
+            slot => {
+                let flip = self.flip.is_some();
+                slot.insert(MeterGpu::new(&self.device, self.color_format, self.sample_count, aspect, flip))
+            }
+        };
+        frame.meter?;
+        if meter.in_flight.len() >= IN_FLIGHT {
+            return None;
+        }
+        if let Some(flip) = self.flip.as_mut().filter(|_| frame.flip) {
+            // The meter's picture at the pixels per degree of the view seen at FLIP's standard.
+            let view_height = frame.views[0].0.height.max(1) as f32;
+            flip.set_kernels(
+                &self.queue,
+                DEFAULT_PPD * METER_HEIGHT as f32 / view_height,
+                !self.color_format.is_srgb(),
+            );
+        }
+        let picture_bytes = u64::from(padded_row(meter.width)) * u64::from(meter.height);
+        Some(meter.free.pop().unwrap_or_else(|| {
+            self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("meter readback"),
+                size: (PICTURES + ERROR_SLOTS) as u64 * picture_bytes,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            })
+        }))
+    }
+
+    /// Records the meter's draws of `frame` into `encoder` (its targets sized by
+    /// [`Renderer::prepare_meter`]) and returns the picture of each view (an index; 0 is the
+    /// reference), and the readback to start after the submit. With a `buffer` (a measured
+    /// frame), the pictures and the views' controls (`frame.controls`) are also copied into it
+    /// for reading back; without, the views are drawn for the difference overlay only.
     pub(super) fn encode_meter(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameInput,
-        tag: Option<u64>,
+        buffer: Option<wgpu::Buffer>,
         slot: &mut u64,
-    ) -> (Vec<usize>, bool) {
-        let aspect = frame.views[0].0.aspect();
-        let mut cache = self.meter.borrow_mut();
-        let fits = |m: &MeterGpu| {
-            m.width == ((METER_HEIGHT as f32 * aspect).round() as u32).clamp(16, 4 * METER_HEIGHT)
-        };
-        if !cache.as_ref().is_some_and(fits) {
-            *cache = Some(MeterGpu::new(
-                &self.device,
-                self.color_format,
-                self.sample_count,
-                aspect,
-                self.flip.is_some(),
-            ));
-        }
-        let meter = cache.as_mut().expect("just made");
+    ) -> (Vec<usize>, Option<Readback>) {
+        let Some(meter) = self.meter.as_ref() else { return (Vec::new(), None) };
         let views = frame.views.iter().filter(|(rect, _)| rect.width > 0 && rect.height > 0).count();
-        let tag = tag.filter(|_| meter.in_flight.len() < IN_FLIGHT);
+        let tag = frame.meter.filter(|_| buffer.is_some());
         let reference_plan = plan_view(Method::Popping, &Transition::at(0));
         let reference = match frame.crowd {
             Some(crowd) => Picture::Crowd(&crowd.reference),
@@ -224,7 +251,7 @@ impl Renderer {
                 Picture::Crowd(draws) => self.draw_crowd_view(&mut pass, draws, [0.0; 2], slot),
             }
         }
-        let Some(tag) = tag else { return (view_picture, false) };
+        let (Some(tag), Some(buffer)) = (tag, buffer) else { return (view_picture, None) };
         // FLIP of each view against the reference and its control, at the pixels per degree of
         // the meter's picture when the view is seen at FLIP's standard 67 ppd.
         let mut flip_pairs = match frame.crowd {
@@ -234,9 +261,7 @@ impl Renderer {
         let mut flip_ppd = None;
         match &self.flip {
             Some(flip) if frame.flip && !flip_pairs.is_empty() && !meter.errors.is_empty() => {
-                let view_height = frame.views[0].0.height.max(1) as f32;
-                let ppd = DEFAULT_PPD * METER_HEIGHT as f32 / view_height;
-                flip_ppd = Some(flip.set_kernels(&self.queue, ppd, !self.color_format.is_srgb()));
+                flip_ppd = flip.ppd();
                 let mut filtered = vec![false; plans.len()];
                 for &(a, b) in &flip_pairs {
                     for p in [a, b] {
@@ -259,14 +284,6 @@ impl Renderer {
         }
         let row = padded_row(meter.width);
         let picture_bytes = u64::from(row) * u64::from(meter.height);
-        let buffer = meter.free.pop().unwrap_or_else(|| {
-            self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("meter readback"),
-                size: (PICTURES + ERROR_SLOTS) as u64 * picture_bytes,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            })
-        });
         let copies = meter.textures.iter().take(plans.len()).enumerate();
         let maps = meter.errors.iter().take(flip_pairs.len()).enumerate().map(|(s, t)| (PICTURES + s, t));
         for (i, texture) in copies.chain(maps) {
@@ -283,37 +300,35 @@ impl Renderer {
                 texture.size(),
             );
         }
-        let pictures = plans.len();
-        meter.in_flight.push(Readback {
+        let readback = Readback {
             buffer,
             mapped: Rc::default(),
             tag,
-            pictures,
+            pictures: plans.len(),
             view_picture: view_picture.clone(),
             control_picture,
             flip_pairs,
             flip_ppd,
-        });
-        (view_picture, true)
+        };
+        (view_picture, Some(readback))
     }
 
-    /// Starts mapping the readback recorded last (after its submit).
-    pub(super) fn map_meter(&self) {
-        let cache = self.meter.borrow();
-        let Some(readback) = cache.as_ref().and_then(|m| m.in_flight.last()) else { return };
-        if Rc::strong_count(&readback.mapped) > 1 || readback.mapped.get().is_some() {
-            return; // already mapping
-        }
+    /// Starts mapping a measured frame's readback (after its submit); [`Renderer::take_meter_frames`]
+    /// collects it once mapped.
+    pub(super) fn start_readback(&mut self, readback: Readback) {
         let done = Rc::clone(&readback.mapped);
         readback.buffer.map_async(wgpu::MapMode::Read, .., move |r| done.set(Some(r.is_ok())));
+        // A readback comes from the meter's pictures, so the meter is there.
+        if let Some(meter) = self.meter.as_mut() {
+            meter.in_flight.push(readback);
+        }
     }
 
     /// The measured frames whose readbacks have arrived, oldest first. WebGL2 resolves maps only
     /// when polled, so this polls first; it never waits.
-    pub fn take_meter_frames(&self) -> Vec<MeterFrame> {
+    pub fn take_meter_frames(&mut self) -> Vec<MeterFrame> {
         let _ = self.device.poll(wgpu::PollType::Poll);
-        let mut cache = self.meter.borrow_mut();
-        let Some(meter) = cache.as_mut() else { return Vec::new() };
+        let Some(meter) = self.meter.as_mut() else { return Vec::new() };
         let (width, height) = (meter.width, meter.height);
         let row = padded_row(width) as usize;
         let mut out = Vec::new();

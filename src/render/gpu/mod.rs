@@ -146,7 +146,7 @@ pub struct Renderer {
     direct: Option<(wgpu::TextureView, Option<wgpu::TextureView>)>,
     /// View-size targets, when each view draws at the origin of its own texture and is copied
     /// into place (see [`Renderer::composed`]).
-    view_targets: std::cell::RefCell<Option<ViewTargets>>,
+    view_targets: Option<ViewTargets>,
     /// Whether views are drawn separately and copied into the frame. Drawing every view at the
     /// same origin makes equal views bit-identical (the viewport transform's rounding depends on
     /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
@@ -173,7 +173,7 @@ pub struct Renderer {
     /// geomorphs that skip levels; most recently used last, at most [`MORPH_PAIRS`].
     morph_pairs: Vec<((usize, usize), wgpu::Buffer)>,
     /// The live meter's targets and readbacks, made on first use.
-    meter: std::cell::RefCell<Option<meter::MeterGpu>>,
+    meter: Option<meter::MeterGpu>,
     /// The difference overlay's pipeline.
     difference: Option<difference::DifferenceGpu>,
     /// LDR-FLIP's pipelines, where float targets can be rendered into.
@@ -454,7 +454,7 @@ impl Renderer {
 
     /// Draws a frame to the canvas; returns whether its meter pictures will be read back (a
     /// frame that finds every readback in flight is not measured).
-    pub fn render(&self, frame: &FrameInput) -> bool {
+    pub fn render(&mut self, frame: &FrameInput) -> bool {
         let texture = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return false,
@@ -468,21 +468,44 @@ impl Renderer {
                 return false;
             }
         };
-        let (commands, measured) = self.encode_measured(frame, &texture.texture);
+        let buffer = self.prepare(frame);
+        let (commands, readback) = self.encode(frame, &texture.texture, buffer);
         self.queue.submit([commands]);
-        if measured {
-            self.map_meter();
+        let measured = readback.is_some();
+        if let Some(readback) = readback {
+            self.start_readback(readback);
         }
         self.queue.present(texture);
         measured
     }
 
-    fn encode(&self, frame: &FrameInput, target: &wgpu::Texture) -> wgpu::CommandBuffer {
-        self.encode_measured(frame, target).0
+    /// Sizes what `frame` draws into before it is recorded: the views' targets (composed
+    /// drawing), and the meter's pictures and FLIP kernels when the frame is measured or shows
+    /// the difference overlay. Returns a readback buffer for a measured frame, unless every
+    /// readback is in flight.
+    fn prepare(&mut self, frame: &FrameInput) -> Option<wgpu::Buffer> {
+        let size = frame.views[0].0;
+        let fits = |t: &ViewTargets| (t.width, t.height) == (size.width, size.height);
+        if self.composed && !self.view_targets.as_ref().is_some_and(fits) {
+            self.view_targets = (size.width > 0 && size.height > 0)
+                .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
+        }
+        if frame.meter.is_some() || frame.overlay == Overlay::Difference {
+            self.prepare_meter(frame)
+        } else {
+            None
+        }
     }
 
-    /// Records a frame into `target`; also says whether its meter pictures are read back.
-    fn encode_measured(&self, frame: &FrameInput, target: &wgpu::Texture) -> (wgpu::CommandBuffer, bool) {
+    /// Records a frame into `target` (sized by [`Renderer::prepare`] first), with `readback` the
+    /// buffer `prepare` gave; returns the readback to start after the submit, if the frame is
+    /// measured.
+    fn encode(
+        &self,
+        frame: &FrameInput,
+        target: &wgpu::Texture,
+        readback: Option<wgpu::Buffer>,
+    ) -> (wgpu::CommandBuffer, Option<meter::Readback>) {
         let mut camera = frame.camera;
         camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
         self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
@@ -511,10 +534,10 @@ impl Renderer {
         let mut slot = 0u64;
         // The meter's pictures first: the difference overlay reads them in the views' passes.
         let difference = frame.overlay == Overlay::Difference;
-        let (pictures, measured) = if frame.meter.is_some() || difference {
-            self.encode_meter(&mut encoder, frame, frame.meter, &mut slot)
+        let (pictures, readback) = if frame.meter.is_some() || difference {
+            self.encode_meter(&mut encoder, frame, readback, &mut slot)
         } else {
-            (Vec::new(), false)
+            (Vec::new(), None)
         };
         let heat = |pass: &mut wgpu::RenderPass, i: usize, origin: [f32; 2], rect: &Rect| {
             if let Some(&picture) = pictures.get(i).filter(|_| difference) {
@@ -525,13 +548,7 @@ impl Renderer {
             // The background (gaps between views), then each view drawn at its texture's origin
             // and copied into place.
             drop(begin_pass(&mut encoder, &target_view, None, None, background_for(target.format())));
-            let size = frame.views[0].0;
-            let mut cache = self.view_targets.borrow_mut();
-            if cache.as_ref().is_none_or(|t| (t.width, t.height) != (size.width, size.height)) {
-                *cache = (size.width > 0 && size.height > 0)
-                    .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
-            }
-            let Some(targets) = cache.as_ref() else { return (encoder.finish(), measured) };
+            let Some(targets) = self.view_targets.as_ref() else { return (encoder.finish(), readback) };
             for (i, (rect, plan)) in frame.views.iter().enumerate() {
                 if !visible(rect) || (rect.width, rect.height) != (targets.width, targets.height) {
                     continue;
@@ -591,7 +608,7 @@ impl Renderer {
             // WebGL2 resolves MSAA (and clears next frame) through the scissor: leave it whole.
             pass.set_scissor_rect(0, 0, fw, fh);
         }
-        (encoder.finish(), measured)
+        (encoder.finish(), readback)
     }
 
     /// Records view `i` of `frame`: the crowd's instanced draws in crowd mode, else its `plan`.

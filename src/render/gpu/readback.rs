@@ -10,7 +10,7 @@ impl Renderer {
     ///
     /// # Errors
     /// [`RenderError::Readback`] when the GPU cannot map the copy.
-    pub async fn read_pixels(&self, frame: &FrameInput<'_>) -> Result<Pixels, RenderError> {
+    pub async fn read_pixels(&mut self, frame: &FrameInput<'_>) -> Result<Pixels, RenderError> {
         let (width, height) = (self.config.width, self.config.height);
         let texture = self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("readback target"),
@@ -24,7 +24,9 @@ impl Renderer {
                 | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let draw = self.encode(frame, &texture);
+        // A frame read back is never measured: no readback buffer for the meter.
+        let _ = self.prepare(frame);
+        let (draw, _) = self.encode(frame, &texture, None);
         let mut rgba = read_texture_level(&self.device, &self.queue, &texture, 0, Some(draw)).await?;
         if matches!(self.color_format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb)
         {
