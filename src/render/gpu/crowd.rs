@@ -85,7 +85,7 @@ impl Renderer {
     /// palette equal in joints, rows, clip and that choice to the one uploaded is not uploaded
     /// again.
     pub fn set_crowd_palette(&mut self, palette: &PosePalette, morphs: bool) {
-        let morphs = morphs && !self.morphs_dropped;
+        let morphs = morphs && !self.uniforms.morphs_dropped;
         let key = (palette.joints, palette.rows, palette.clip, morphs);
         if let Some(crowd) = &mut self.crowd {
             if crowd.palette_key != key {
@@ -157,13 +157,13 @@ impl Renderer {
         let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
         *slot += 1;
         let raw = DrawRaw { viewport_origin: origin, opacity: 1.0, ..DrawRaw::default() };
-        self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
-        pass.set_bind_group(0, &self.frame_group, &[]);
+        self.queue.write_buffer(&self.uniforms.draws, offset, bytemuck::bytes_of(&raw));
+        pass.set_bind_group(0, &self.uniforms.frame_group, &[]);
         // The ground first: instances in front of it pass the depth test.
         pass.set_pipeline(&crowd.ground_pipeline);
         pass.set_vertex_buffer(0, crowd.ground.slice(..));
         pass.draw(0..6, 0..1);
-        pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
+        pass.set_bind_group(2, &self.uniforms.draw_group, &[offset as u32]);
         pass.set_bind_group(3, &crowd.palette_group, &[]);
         let stride = std::mem::size_of::<InstanceRaw>() as u64;
         for draw in draws {

@@ -19,6 +19,7 @@ mod difference;
 mod flip;
 pub use flip::MAX_PPD;
 mod frame_targets;
+mod frame_uniforms;
 mod joints;
 mod meter;
 pub use meter::{MeterFrame, METER_HEIGHT};
@@ -30,15 +31,16 @@ mod readback;
 mod resources;
 
 use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTargets};
+use frame_uniforms::FrameUniforms;
 use pipelines::{create_pipelines, BindLayouts, Pipelines};
-use resources::{uniform_buffer, upload_level, upload_materials};
+use resources::{upload_level, upload_materials};
 
 use super::crowd::CrowdFrame;
 use super::layout::Rect;
 use super::lod_source::{GeomorphVertexRaw, LevelData, LodSource};
 use super::overlay::{draw_tint, Overlay};
 use super::plan::{PassKind, ViewPlan};
-use super::uniforms::{CameraRaw, DrawRaw, MorphWeightsRaw};
+use super::uniforms::{CameraRaw, DrawRaw};
 use crate::character::Character;
 
 /// Why the renderer could not start or draw.
@@ -151,19 +153,8 @@ pub struct Renderer {
     /// same origin makes equal views bit-identical (the viewport transform's rounding depends on
     /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
     composed: bool,
-    camera_buffer: wgpu::Buffer,
-    joints: joints::JointTexture,
-    /// Points the bone-line buffer holds: two per joint is more than enough, as every bone ends
-    /// at a joint and the topmost joint starts none.
-    bone_vertices: usize,
-    morph_weights_buffer: wgpu::Buffer,
-    /// Whether the morph deltas were too many for a texture (see [`Renderer::morphs_dropped`]).
-    morphs_dropped: bool,
-    draw_buffer: wgpu::Buffer,
-    /// The skeleton overlay's bone lines, rewritten each frame it is shown.
-    bone_buffer: wgpu::Buffer,
-    frame_group: wgpu::BindGroup,
-    draw_group: wgpu::BindGroup,
+    /// The uniforms every draw reads, and their bind groups (`frame_uniforms.rs`).
+    uniforms: FrameUniforms,
     materials: Vec<MaterialGpu>,
     levels: Vec<LevelGpu>,
     /// The continuous slider's meshes, drawn as levels `levels.len()` (the finer state, its
@@ -270,41 +261,14 @@ impl Renderer {
                 1
             };
 
-        let camera_buffer = uniform_buffer(&device, "camera", std::mem::size_of::<CameraRaw>() as u64);
-        let joint_count = character.skeleton.joints.len();
-        let joints = joints::JointTexture::new(&device, joint_count)?;
-        let bone_vertices = 2 * joint_count.max(1);
-        let draw_buffer = uniform_buffer(&device, "draws", DRAW_SLOTS * DRAW_STRIDE);
-        let bone_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("bones"),
-            size: bone_vertices as u64 * BONE_VERTEX_STRIDE,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let layouts = BindLayouts::new(&device);
-        let morph_weights_buffer =
-            uniform_buffer(&device, "morph weights", std::mem::size_of::<MorphWeightsRaw>() as u64);
-        let morph_deltas = morph::morph_texture(&device, &queue, &lod.morph_texels);
-        let frame_group = morph::frame_group(
+        let uniforms = FrameUniforms::new(
             &device,
-            &layouts.frame,
-            &camera_buffer,
-            &joints.view,
-            &morph_weights_buffer,
-            &morph_deltas,
-        );
-        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("draw"),
-            layout: &layouts.draw,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &draw_buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(std::mem::size_of::<DrawRaw>() as u64),
-                }),
-            }],
-        });
+            &queue,
+            &layouts,
+            character.skeleton.joints.len(),
+            &lod.morph_texels,
+        )?;
         let materials = upload_materials(&device, &queue, &layouts.material, character).await?;
         let default_slot = materials.len() - 1;
         let mut levels = Vec::with_capacity(lod.levels.len());
@@ -333,15 +297,7 @@ impl Renderer {
             direct,
             view_targets: Default::default(),
             composed,
-            camera_buffer,
-            joints,
-            bone_vertices,
-            morph_weights_buffer,
-            morphs_dropped: morph_deltas.dropped,
-            draw_buffer,
-            bone_buffer,
-            frame_group,
-            draw_group,
+            uniforms,
             materials,
             levels,
             continuous: Vec::new(),
@@ -506,26 +462,7 @@ impl Renderer {
         target: &wgpu::Texture,
         readback: Option<wgpu::Buffer>,
     ) -> (wgpu::CommandBuffer, Option<meter::Readback>) {
-        let mut camera = frame.camera;
-        camera.encode_srgb = u32::from(self.encodes_srgb_in_shader());
-        self.queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
-        self.joints.write(&self.queue, frame.skin);
-        let weights = if self.morphs_dropped {
-            MorphWeightsRaw::new(&[])
-        } else {
-            MorphWeightsRaw::new(frame.morph_weights)
-        };
-        self.queue.write_buffer(&self.morph_weights_buffer, 0, bytemuck::bytes_of(&weights));
-        let bones = if frame.overlay == Overlay::Skeleton {
-            // Whole segments only (an even count), at most what the buffer holds.
-            let points = &frame.bones[..frame.bones.len().min(self.bone_vertices) & !1];
-            if !points.is_empty() {
-                self.queue.write_buffer(&self.bone_buffer, 0, bytemuck::cast_slice(points));
-            }
-            points.len() as u32
-        } else {
-            0
-        };
+        let bones = self.uniforms.write(&self.queue, frame, self.encodes_srgb_in_shader());
         let target_view = target.create_view(&Default::default());
         let (fw, fh) = (target.width(), target.height());
         let visible = |r: &Rect| r.width > 0 && r.height > 0 && r.x + r.width <= fw && r.y + r.height <= fh;
@@ -638,7 +575,7 @@ impl Renderer {
         origin: [f32; 2],
         slot: &mut u64,
     ) {
-        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(0, &self.uniforms.frame_group, &[]);
         for draw in &plan.draws {
             let offset = (*slot % DRAW_SLOTS) * DRAW_STRIDE;
             *slot += 1;
@@ -651,7 +588,7 @@ impl Renderer {
                 tint: draw_tint(overlay, draw.level, draw.morph),
                 ..DrawRaw::default()
             };
-            self.queue.write_buffer(&self.draw_buffer, offset, bytemuck::bytes_of(&raw));
+            self.queue.write_buffer(&self.uniforms.draws, offset, bytemuck::bytes_of(&raw));
             let Some(level) = self.level_gpu(draw.level) else { continue };
             // A level's own buffer pairs each vertex with its ancestor one level coarser; a
             // geomorph that skips levels reads its uploaded pair buffer.
@@ -664,7 +601,7 @@ impl Renderer {
                 }
                 _ => &level.vertices,
             };
-            pass.set_bind_group(2, &self.draw_group, &[offset as u32]);
+            pass.set_bind_group(2, &self.uniforms.draw_group, &[offset as u32]);
             pass.set_vertex_buffer(0, vertices.slice(..));
             pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
             for &(first, count, material) in &level.ranges {
@@ -689,8 +626,8 @@ impl Renderer {
             return;
         }
         pass.set_pipeline(&self.pipelines.bone);
-        pass.set_bind_group(0, &self.frame_group, &[]);
-        pass.set_vertex_buffer(0, self.bone_buffer.slice(..u64::from(points) * BONE_VERTEX_STRIDE));
+        pass.set_bind_group(0, &self.uniforms.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.uniforms.bones.slice(..u64::from(points) * BONE_VERTEX_STRIDE));
         pass.draw(0..points, 0..1);
     }
 }

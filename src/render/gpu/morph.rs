@@ -58,19 +58,19 @@ impl Renderer {
     /// Whether the source's morph deltas did not fit the device's largest texture (the views then
     /// draw the base shape; the page says so).
     pub fn morphs_dropped(&self) -> bool {
-        self.morphs_dropped
+        self.uniforms.morphs_dropped
     }
 
     /// Uploads `lod`'s morph deltas and binds them (after the levels change).
     pub(super) fn set_morph_deltas(&mut self, lod: &LodSource) {
         let morph = morph_texture(&self.device, &self.queue, &lod.morph_texels);
-        self.morphs_dropped = morph.dropped;
-        self.frame_group = frame_group(
+        self.uniforms.morphs_dropped = morph.dropped;
+        self.uniforms.frame_group = frame_group(
             &self.device,
             &self.layouts.frame,
-            &self.camera_buffer,
-            &self.joints.view,
-            &self.morph_weights_buffer,
+            &self.uniforms.camera,
+            &self.uniforms.joints.view,
+            &self.uniforms.morph_weights,
             &morph,
         );
     }

@@ -49,7 +49,7 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.draw_buffer, 0, &fence, 0, 4);
+        encoder.copy_buffer_to_buffer(&self.uniforms.draws, 0, &fence, 0, 4);
         self.queue.submit([encoder.finish()]);
         map_read(&self.device, &fence).await
     }
