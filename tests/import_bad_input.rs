@@ -8,7 +8,7 @@ use clod_viewer::import::{from_bytes, from_glb, from_gltf};
 use clod_viewer::{Character, ImportError};
 use common::{tiny, SplitMix, TinyModel};
 use glam::{Mat4, Vec3};
-use gltf_json::Value;
+use serde_json::Value;
 
 fn import(model: &TinyModel) -> Result<Character, ImportError> {
     from_gltf(&model.gltf(), &mut |_| None)
@@ -57,9 +57,9 @@ fn with_prop(transform: &str) -> TinyModel {
     let mut model = TinyModel::new();
     model.json["nodes"][1]["children"] = Value::from(vec![3]);
     let prop = format!(r#"{{"name": "prop", "mesh": 1, {transform}}}"#);
-    model.json["nodes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(&prop).unwrap());
+    model.json["nodes"].as_array_mut().unwrap().push(serde_json::from_str(&prop).unwrap());
     let mesh = r#"{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}"#;
-    model.json["meshes"].as_array_mut().unwrap().push(gltf_json::deserialize::from_str(mesh).unwrap());
+    model.json["meshes"].as_array_mut().unwrap().push(serde_json::from_str(mesh).unwrap());
     model
 }
 
@@ -122,7 +122,7 @@ fn strips_points_and_morph_targets() {
     let mut points = model.json["meshes"][0]["primitives"][0].clone();
     points["mode"] = Value::from(0);
     model.json["meshes"][0]["primitives"].as_array_mut().unwrap().push(points);
-    let target: Value = gltf_json::deserialize::from_str(r#"[{"POSITION": 0}]"#).unwrap();
+    let target: Value = serde_json::from_str(r#"[{"POSITION": 0}]"#).unwrap();
     model.json["meshes"][0]["primitives"][0]["targets"] = target;
     let c = import(&model).unwrap();
     assert_eq!(c.mesh.indices, vec![0, 1, 2]);
@@ -284,7 +284,7 @@ fn node_cycles() {
     assert_mentions(&error_of(&model), &["node 1 ('tip')", "its own child"]);
     // A cycle outside the scene that a skin joint hangs from.
     let mut model = TinyModel::new();
-    let extra: Value = gltf_json::deserialize::from_str(r#"[{"children": [4]}, {"children": [3]}]"#).unwrap();
+    let extra: Value = serde_json::from_str(r#"[{"children": [4]}, {"children": [3]}]"#).unwrap();
     model.json["nodes"].as_array_mut().unwrap().extend(extra.as_array().unwrap().iter().cloned());
     model.json["nodes"][4]["children"] = Value::from(vec![3, 0]);
     assert_mentions(&error_of(&model), &["cycle"]);
@@ -310,13 +310,12 @@ fn absurd_counts() {
     }
     // A sparse accessor without buffer view: zeros that no file bytes back.
     let mut model = TinyModel::new();
-    let sparse: Value = gltf_json::deserialize::from_str(
+    let sparse: Value = serde_json::from_str(
         r#"{"count": 1, "indices": {"bufferView": 1, "componentType": 5123}, "values": {"bufferView": 0}}"#,
     )
     .unwrap();
     model.json["accessors"][6] =
-        gltf_json::deserialize::from_str(r#"{"componentType": 5126, "count": 10000000, "type": "VEC3"}"#)
-            .unwrap();
+        serde_json::from_str(r#"{"componentType": 5126, "count": 10000000, "type": "VEC3"}"#).unwrap();
     model.json["accessors"][6]["sparse"] = sparse;
     assert_mentions(
         &error_of(&model),
@@ -330,7 +329,7 @@ fn sparse_accessors_substitute_and_check_their_indices() {
     // Replace key value 1 of the animation with (0, 1, 0), the value at key 0, via sparse data
     // that reuses the position view (vertex 2 is (0, 1, 0)) and an index buffer of one u16 = 1.
     let mut model = TinyModel::new();
-    let sparse: Value = gltf_json::deserialize::from_str(
+    let sparse: Value = serde_json::from_str(
         r#"{"count": 1, "indices": {"bufferView": 1, "byteOffset": 2, "componentType": 5123},
             "values": {"bufferView": 0, "byteOffset": 24}}"#,
     )
@@ -360,7 +359,7 @@ fn bad_animation_keys_and_missing_resources() {
     // An external buffer the resolver does not have.
     let mut json = TinyModel::new().json;
     json["buffers"][0]["uri"] = Value::from("missing%20file.bin");
-    let text = gltf_json::serialize::to_vec(&json).unwrap();
+    let text = serde_json::to_vec(&json).unwrap();
     let err = from_gltf(&text, &mut |_| None).unwrap_err();
     assert_eq!(err, ImportError::MissingResource("missing file.bin".into()));
     assert_mentions(&err.to_string(), &["'missing file.bin'"]);
@@ -395,5 +394,5 @@ fn two_skins_share_joints_and_keep_their_own_inverse_binds() {
 }
 
 fn serde_json_value(text: &str) -> Value {
-    gltf_json::deserialize::from_str(text).unwrap()
+    serde_json::from_str(text).unwrap()
 }

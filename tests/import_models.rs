@@ -198,8 +198,8 @@ fn gltf_json_with_external_buffer_matches_the_glb() {
     let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
     let from_binary = from_glb(&bytes).unwrap();
     let (mut json, bin) = common::split_glb(&bytes);
-    json["buffers"][0]["uri"] = gltf_json::Value::from("Cesium%20Man.bin");
-    let text = gltf_json::serialize::to_vec(&json).unwrap();
+    json["buffers"][0]["uri"] = serde_json::Value::from("Cesium%20Man.bin");
+    let text = serde_json::to_vec(&json).unwrap();
     let mut asked = Vec::new();
     let mut resolve = |uri: &str| {
         asked.push(uri.to_string());
@@ -223,11 +223,11 @@ fn a_gltf_file_on_disk_reads_its_buffer_from_its_folder() {
     use clod_viewer::import::{from_file, ImportError};
     let Some(bytes) = common::model_bytes("CesiumMan.glb") else { return };
     let (mut json, bin) = common::split_glb(&bytes);
-    json["buffers"][0]["uri"] = gltf_json::Value::from("data/Cesium%20Man.bin");
+    json["buffers"][0]["uri"] = serde_json::Value::from("data/Cesium%20Man.bin");
     let folder = std::env::temp_dir().join(format!("clod-from-file-{}", std::process::id()));
     std::fs::create_dir_all(folder.join("data")).unwrap();
     let gltf = folder.join("man.gltf");
-    std::fs::write(&gltf, gltf_json::serialize::to_vec(&json).unwrap()).unwrap();
+    std::fs::write(&gltf, serde_json::to_vec(&json).unwrap()).unwrap();
     std::fs::write(folder.join("data/Cesium Man.bin"), &bin).unwrap();
     std::fs::write(folder.join("man.glb"), &bytes).unwrap();
 

@@ -119,13 +119,13 @@ fn close(a: Vec3, b: Vec3) -> bool {
 #[cfg_attr(not(target_arch = "wasm32"), test)]
 fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
     let whole = grid();
-    let mut json: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    let mut json: serde_json::Value = serde_json::from_slice(&grid_gltf()).unwrap();
     let accessors = json["accessors"].as_array_mut().unwrap();
     for offset in [0, 24] {
         let text = format!(
             r#"{{"bufferView": 2, "byteOffset": {offset}, "componentType": 5123, "count": 12, "type": "SCALAR"}}"#
         );
-        accessors.push(gltf_json::deserialize::from_str(&text).unwrap());
+        accessors.push(serde_json::from_str(&text).unwrap());
     }
     let rows = [accessors.len() - 2, accessors.len() - 1];
     let primitive = json["meshes"][0]["primitives"][0].clone();
@@ -133,10 +133,10 @@ fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
     primitives.clear();
     for row in rows {
         let mut split = primitive.clone();
-        split["indices"] = gltf_json::Value::from(row);
+        split["indices"] = serde_json::Value::from(row);
         primitives.push(split);
     }
-    let split = from_gltf(&gltf_json::serialize::to_vec(&json).unwrap(), &mut |_| None).unwrap();
+    let split = from_gltf(&serde_json::to_vec(&json).unwrap(), &mut |_| None).unwrap();
     // Merged vertex → the file's vertex: the first row uses 0..6, the second 3..9.
     let file_vertex: Vec<usize> = (0..6).chain(3..9).collect();
     assert_eq!(split.mesh.vertex_count(), file_vertex.len());
@@ -161,8 +161,9 @@ fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
     let mut bytes = buffer();
     bytes[108 + 7 * 12..108 + 7 * 12 + 4].copy_from_slice(&f32::NAN.to_le_bytes());
     let uri = base64::engine::general_purpose::STANDARD.encode(bytes);
-    json["buffers"][0]["uri"] = gltf_json::Value::from(format!("data:application/octet-stream;base64,{uri}"));
-    let error = from_gltf(&gltf_json::serialize::to_vec(&json).unwrap(), &mut |_| None).err().unwrap();
+    json["buffers"][0]["uri"] =
+        serde_json::Value::from(format!("data:application/octet-stream;base64,{uri}"));
+    let error = from_gltf(&serde_json::to_vec(&json).unwrap(), &mut |_| None).err().unwrap();
     let message = error.to_string();
     assert!(
         message.contains("primitive 1") && message.contains("vertex 7 has a non-finite normal"),
@@ -179,11 +180,11 @@ fn primitives_sharing_a_vertex_buffer_read_only_their_vertices() {
 fn a_mesh_drawn_twice_simplifies_copy_by_copy() {
     // On a second node (its own rigid joint), and as a second primitive of the same mesh (the
     // same joint, as one skin drawn by two nodes has: the copies' vertices agree in everything).
-    let mut on_two_nodes: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    let mut on_two_nodes: serde_json::Value = serde_json::from_slice(&grid_gltf()).unwrap();
     let twin = on_two_nodes["nodes"][0].clone();
     on_two_nodes["nodes"].as_array_mut().unwrap().push(twin);
-    on_two_nodes["scenes"][0]["nodes"] = gltf_json::Value::from(vec![0, 1]);
-    let mut two_primitives: gltf_json::Value = gltf_json::deserialize::from_slice(&grid_gltf()).unwrap();
+    on_two_nodes["scenes"][0]["nodes"] = serde_json::Value::from(vec![0, 1]);
+    let mut two_primitives: serde_json::Value = serde_json::from_slice(&grid_gltf()).unwrap();
     let twin = two_primitives["meshes"][0]["primitives"][0].clone();
     two_primitives["meshes"][0]["primitives"].as_array_mut().unwrap().push(twin);
     for (json, mode) in [
@@ -191,7 +192,7 @@ fn a_mesh_drawn_twice_simplifies_copy_by_copy() {
         (&two_primitives, CollapseMode::Full),
         (&two_primitives, CollapseMode::HalfEdge),
     ] {
-        let twice = from_gltf(&gltf_json::serialize::to_vec(json).unwrap(), &mut |_| None).unwrap();
+        let twice = from_gltf(&serde_json::to_vec(json).unwrap(), &mut |_| None).unwrap();
         assert_eq!(twice.mesh.triangle_count(), 16);
         let once = chain(&grid(), mode);
         let levels = once.levels.iter().map(|l| 2 * l.triangle_count()).collect();

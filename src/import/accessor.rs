@@ -9,9 +9,7 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use gltf_json::accessor::{ComponentType, GenericComponentType, Type};
-use gltf_json::validation::Checked;
-use gltf_json::Root;
+use super::document::{ComponentType, Root, Sparse, Type};
 
 use super::container::{view_bytes, Buffers};
 use super::ImportError;
@@ -107,10 +105,7 @@ fn read<T: Copy + Default>(
 ) -> Result<Elements<T>, ImportError> {
     let err = |problem: String| accessor_error(index, usage, problem);
     let acc = src.root.accessors.get(index).ok_or_else(|| err("does not exist".into()))?;
-    let (Checked::Valid(ty), Checked::Valid(GenericComponentType(ct))) = (acc.type_, acc.component_type)
-    else {
-        return Err(err("has an invalid type or component type".into()));
-    };
+    let (ty, ct) = (acc.type_, acc.component_type);
     if !types.contains(&ty) {
         return Err(err(format!("is {ty:?} but must be one of {types:?}")));
     }
@@ -118,7 +113,7 @@ fn read<T: Copy + Default>(
     if matches!(ty, Type::Mat2 | Type::Mat3 | Type::Mat4) && ct != ComponentType::F32 {
         return Err(err("is a matrix of non-float components".into()));
     }
-    let count = acc.count.0;
+    let count = acc.count;
     if count > max_count as u64 {
         return Err(err(format!("has {count} elements, more than the limit of {max_count}")));
     }
@@ -153,14 +148,13 @@ fn read<T: Copy + Default>(
         }
         (None, None) => vec![T::default(); count * components],
         (None, Some(view)) => {
-            let bytes = view_bytes(src.root, src.buffers, view.value())?;
-            let view_json = &src.root.buffer_views[view.value()];
-            let stride = view_json.byte_stride.map_or(elem, |s| s.0);
+            let bytes = view_bytes(src.root, src.buffers, view)?;
+            let stride = src.root.buffer_views[view].byte_stride.unwrap_or(elem);
             if stride < elem {
                 return Err(err(format!("has {elem}-byte elements but a byte stride of {stride}")));
             }
-            let offset = acc.byte_offset.map_or(0, |o| o.0);
-            from_bytes(bytes, stride, offset, format!("buffer view {}", view.value()))?
+            let offset = acc.byte_offset;
+            from_bytes(bytes, stride, offset, format!("buffer view {view}"))?
         }
     };
     if let Some(sparse) = &acc.sparse {
@@ -172,27 +166,24 @@ fn read<T: Copy + Default>(
 /// Overwrites the elements a sparse accessor substitutes (§3.6.2.3).
 fn apply_sparse<T>(
     src: Source,
-    sparse: &gltf_json::accessor::sparse::Sparse,
+    sparse: &Sparse,
     count: usize,
     elem: usize,
     values: &mut [T],
     convert: &dyn Fn(&[u8]) -> Result<T, ImportError>,
     err: &dyn Fn(String) -> ImportError,
 ) -> Result<(), ImportError> {
-    let n = sparse.count.0;
+    let n = sparse.count;
     if n > count as u64 {
         return Err(err(format!("substitutes {n} sparse elements but has only {count}")));
     }
     let n = n as usize;
-    let Checked::Valid(index_type) = sparse.indices.component_type else {
-        return Err(err("has an invalid sparse index type".into()));
-    };
-    let index_type = index_type.0;
+    let index_type = sparse.indices.component_type;
     let index_size = index_type.size();
-    let index_bytes = view_bytes(src.root, src.buffers, sparse.indices.buffer_view.value())?;
-    let index_offset = sparse.indices.byte_offset.0;
-    let value_bytes = view_bytes(src.root, src.buffers, sparse.values.buffer_view.value())?;
-    let value_offset = sparse.values.byte_offset.0;
+    let index_bytes = view_bytes(src.root, src.buffers, sparse.indices.buffer_view)?;
+    let index_offset = sparse.indices.byte_offset;
+    let value_bytes = view_bytes(src.root, src.buffers, sparse.values.buffer_view)?;
+    let value_offset = sparse.values.byte_offset;
     if bytes_needed(index_offset, n as u64, index_size as u64, index_size as u64) > index_bytes.len() as u128
     {
         return Err(err(format!(
@@ -317,7 +308,7 @@ impl SharedReads {
     ) -> Result<bool, ImportError> {
         let Some(left) = self.reads_left.get_mut(&index) else { return Ok(false) };
         *left = left.saturating_sub(1);
-        if let Some(Checked::Valid(ty)) = src.root.accessors.get(index).map(|a| a.type_) {
+        if let Some(ty) = src.root.accessors.get(index).map(|a| a.type_) {
             if !types.contains(&ty) {
                 return Err(accessor_error(index, usage, format!("is {ty:?} but must be one of {types:?}")));
             }

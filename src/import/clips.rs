@@ -10,10 +10,8 @@
 
 use std::collections::HashMap;
 
+use super::document::{self, Interpolation as JsonInterpolation, Property, Type};
 use glam::{Quat, Vec3};
-use gltf_json::accessor::Type;
-use gltf_json::animation::{Interpolation as JsonInterpolation, Property};
-use gltf_json::validation::Checked;
 
 use super::accessor::{read_floats, Source};
 use super::scene::node_name;
@@ -36,12 +34,7 @@ pub(crate) fn read_clips(
         let mut channels = Vec::new();
         let mut dropped_weights = false;
         for (c, channel) in anim.channels.iter().enumerate() {
-            let node = channel.target.node.value();
-            let Checked::Valid(property) = channel.target.path else {
-                return Err(ImportError::Invalid(format!(
-                    "animation '{name}' channel {c} has an unknown target path"
-                )));
-            };
+            let (node, property) = (channel.node, channel.path);
             let morph_targets = morph_by_node.get(&node);
             if property == Property::MorphTargetWeights && morph_targets.is_none() {
                 dropped_weights = true;
@@ -81,28 +74,22 @@ struct ChannelTarget<'a> {
 /// A missing sampler or unknown interpolation, bad accessors, or keys that make no valid curve.
 fn read_channel(
     src: Source,
-    anim: &gltf_json::Animation,
-    channel: &gltf_json::animation::Channel,
+    anim: &document::Animation,
+    channel: &document::Channel,
     to: &ChannelTarget,
     out: &mut Vec<Channel>,
 ) -> Result<(), ImportError> {
     let (clip, c) = (to.clip, to.index);
-    let sampler = anim.samplers.get(channel.sampler.value()).ok_or_else(|| {
-        ImportError::Invalid(format!("animation '{clip}' channel {c} names a missing sampler"))
-    })?;
+    // The reader checked the sampler index against the animation's samplers.
+    let sampler = &anim.samplers[channel.sampler];
     let interpolation = match sampler.interpolation {
-        Checked::Valid(JsonInterpolation::Step) => Interpolation::Step,
-        Checked::Valid(JsonInterpolation::Linear) => Interpolation::Linear,
-        Checked::Valid(JsonInterpolation::CubicSpline) => Interpolation::CubicSpline,
-        Checked::Invalid => {
-            return Err(ImportError::Invalid(format!(
-                "animation '{clip}' channel {c} has an unknown interpolation"
-            )))
-        }
+        JsonInterpolation::Step => Interpolation::Step,
+        JsonInterpolation::Linear => Interpolation::Linear,
+        JsonInterpolation::CubicSpline => Interpolation::CubicSpline,
     };
     let target = format!("{} of node '{}'", property_name(to.property), node_name(src.root, to.node));
     let usage = |what: &str| format!("{what} of animation '{clip}' channel {c}");
-    let times = read_floats(src, sampler.input.value(), &usage("key times"), &[Type::Scalar], MAX_KEYS)?;
+    let times = read_floats(src, sampler.input, &usage("key times"), &[Type::Scalar], MAX_KEYS)?;
     // Cubic splines store in-tangent, value and out-tangent per key.
     let max_values = if interpolation == Interpolation::CubicSpline { 3 * MAX_KEYS } else { MAX_KEYS };
     let curve_error = |source: CurveError| ImportError::Animation {
@@ -112,7 +99,7 @@ fn read_channel(
         source,
     };
     let key_values =
-        |kind: Type, max: usize| read_floats(src, sampler.output.value(), &usage("key values"), &[kind], max);
+        |kind: Type, max: usize| read_floats(src, sampler.output, &usage("key values"), &[kind], max);
     let curve = match to.property {
         Property::Translation | Property::Scale => {
             let values =

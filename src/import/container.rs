@@ -7,9 +7,9 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use super::document::Root;
 use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
 use base64::Engine;
-use gltf_json::Root;
 
 use super::ImportError;
 
@@ -180,7 +180,7 @@ pub(crate) fn load_buffers<'a>(
             (Some(uri), _) => Cow::Owned(fetch_uri(uri, resolve)?.0),
             (None, _) => return Err(ImportError::MissingBinChunk(index)),
         };
-        let declared = buffer.byte_length.0;
+        let declared = buffer.byte_length;
         if (data.len() as u64) < declared {
             return Err(ImportError::ShortBuffer { buffer: index, declared, actual: data.len() });
         }
@@ -239,18 +239,18 @@ pub(crate) fn view_bytes<'b>(root: &Root, data: &'b Buffers, view: usize) -> Res
     if let Some(Some(decoded)) = data.decoded.get(view) {
         return Ok(decoded);
     }
-    let buffer_index = v.buffer.value();
+    let buffer_index = v.buffer;
     let buffer = data
         .buffers
         .get(buffer_index)
         .ok_or(ImportError::Invalid(format!("buffer view {view} names missing buffer {buffer_index}")))?;
-    let offset = v.byte_offset.map_or(0, |o| o.0);
-    let end = offset.checked_add(v.byte_length.0);
+    let offset = v.byte_offset;
+    let end = offset.checked_add(v.byte_length);
     match end.filter(|&e| e <= buffer.len() as u64) {
         Some(end) => Ok(&buffer[offset as usize..end as usize]),
         None => Err(ImportError::Invalid(format!(
             "buffer view {view} spans bytes {offset}..{} but buffer {buffer_index} has {} bytes",
-            offset as u128 + v.byte_length.0 as u128,
+            offset as u128 + v.byte_length as u128,
             buffer.len()
         ))),
     }
@@ -280,11 +280,11 @@ pub(crate) fn load_image(
     let image =
         root.images.get(index).ok_or(ImportError::Invalid(format!("image {index} does not exist")))?;
     let (bytes, uri_mime) = match (&image.buffer_view, &image.uri) {
-        (Some(view), _) => (view_bytes(root, buffers, view.value())?.to_vec(), None),
+        (Some(view), _) => (view_bytes(root, buffers, *view)?.to_vec(), None),
         (None, Some(uri)) => fetch_uri(uri, resolve)?,
         (None, None) => return Ok(Err(format!("image {index} has neither a buffer view nor a URI"))),
     };
-    let declared = image.mime_type.as_ref().map(|m| m.0.clone()).or(uri_mime);
+    let declared = image.mime_type.clone().or(uri_mime);
     let mime = declared.filter(|m| m.starts_with("image/")).or_else(|| sniff_mime(&bytes).map(String::from));
     Ok(match mime {
         Some(mime) => Ok((bytes, mime)),

@@ -18,9 +18,9 @@
 //! [`MAX_EXPANSION`] times the file (at least [`MIN_BUDGET`]).
 
 use clod_draco::{Attribute, DecodeError, Decoded, Request};
-use gltf_json::accessor::{ComponentType, GenericComponentType};
-use gltf_json::validation::Checked;
-use gltf_json::{Root, Value};
+use serde_json::Value;
+
+use super::document::{ComponentType, Root};
 
 use super::container::{view_bytes, Buffers, DecodedAccessors};
 use super::meshopt::MAX_EXPANSION;
@@ -48,32 +48,9 @@ pub(crate) const BUILT_IN: Option<DecodeFn> = None;
 /// Whether the glTF JSON `json` declares Draco-compressed primitives (`extensionsUsed`): a
 /// caller without the built-in decoder then loads one before importing.
 pub(crate) fn declared(json: &[u8]) -> bool {
-    let Ok(document) = gltf_json::deserialize::from_slice::<Value>(json) else { return false };
+    let Ok(document) = serde_json::from_slice::<Value>(json) else { return false };
     let used = document.get("extensionsUsed").and_then(Value::as_array);
     used.is_some_and(|used| used.iter().any(|e| e.as_str() == Some(EXTENSION)))
-}
-
-/// The accessors that Draco-compressed primitives define: their indices and the attributes the
-/// extension maps (they need no buffer view).
-pub(crate) fn compressed_accessors(root: &Root) -> Vec<usize> {
-    let mut accessors = Vec::new();
-    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
-        let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {
-            continue;
-        };
-        accessors.extend(primitive.indices.map(|i| i.value()));
-        let mapped = extension.get("attributes").and_then(Value::as_object);
-        for (semantic, accessor) in &primitive.attributes {
-            let name = match semantic {
-                Checked::Valid(s) => s.to_string(),
-                Checked::Invalid => continue,
-            };
-            if mapped.is_some_and(|m| m.contains_key(&name)) {
-                accessors.push(accessor.value());
-            }
-        }
-    }
-    accessors
 }
 
 /// Decodes every Draco-compressed primitive of `root`.
@@ -92,9 +69,7 @@ pub(crate) fn decode_primitives(
     let mut budget = buffers.file_bytes().saturating_mul(MAX_EXPANSION).max(MIN_BUDGET);
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let Some(extension) = primitive.extensions.as_ref().and_then(|e| e.others.get(EXTENSION)) else {
-                continue;
-            };
+            let Some(extension) = primitive.extensions.get(EXTENSION) else { continue };
             let bad =
                 |problem: String| ImportError::Invalid(format!("meshes[{m}].primitives[{p}]: {problem}"));
             let view = extension
@@ -111,11 +86,8 @@ pub(crate) fn decode_primitives(
             let mut wanted = Vec::new();
             for (semantic, id) in attributes {
                 let id = id.as_u64().ok_or_else(|| bad(format!("attribute {semantic} has no Draco id")))?;
-                let Some(accessor) = primitive
-                    .attributes
-                    .iter()
-                    .find(|(s, _)| matches!(s, Checked::Valid(s) if s.to_string() == *semantic))
-                    .map(|(_, a)| a.value())
+                let Some(accessor) =
+                    primitive.attributes.iter().find(|(s, _)| s.to_string() == *semantic).map(|&(_, a)| a)
                 else {
                     continue;
                 };
@@ -152,8 +124,8 @@ pub(crate) fn decode_primitives(
                 None => Err(too_large()),
             };
             if let Some(indices) = primitive.indices {
-                let bytes = spend(index_bytes(root, indices.value(), &mesh).map_err(bad)?)?;
-                decoded.entry(indices.value()).or_insert(bytes);
+                let bytes = spend(index_bytes(root, indices, &mesh).map_err(bad)?)?;
+                decoded.entry(indices).or_insert(bytes);
             }
             for ((semantic, accessor, id, _), attribute) in wanted.iter().zip(&mesh.attributes) {
                 let attribute = attribute
@@ -171,10 +143,7 @@ pub(crate) fn decode_primitives(
 /// The accessor's count, component type and normalized flag, and its component count.
 fn layout(root: &Root, accessor: usize) -> Result<(usize, ComponentType, bool, usize), String> {
     let a = root.accessors.get(accessor).ok_or_else(|| format!("accessor {accessor} does not exist"))?;
-    let (Checked::Valid(ty), Checked::Valid(GenericComponentType(ct))) = (a.type_, a.component_type) else {
-        return Err(format!("accessor {accessor} has an invalid type"));
-    };
-    Ok((a.count.0 as usize, ct, a.normalized, ty.multiplicity()))
+    Ok((a.count as usize, a.component_type, a.normalized, a.type_.multiplicity()))
 }
 
 /// The decoded faces as the bytes of index accessor `accessor`.

@@ -24,10 +24,8 @@
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
+use super::document::{self, Mode, Semantic, Type};
 use glam::{Affine2, Mat2, Mat3, Mat4, Vec2, Vec3, Vec4};
-use gltf_json::accessor::Type;
-use gltf_json::mesh::{Mode, Semantic};
-use gltf_json::validation::Checked;
 
 use super::accessor::{pick_rows, Elements, SharedReads, Source};
 use super::scene::{node_name, JointTable, MeshInstance, SceneGraph};
@@ -187,7 +185,7 @@ pub(crate) fn merge_meshes(
                 }
                 per_weight[k].push((first_target + k) as u32);
             }
-            append(&mut out, prim, influences, prim_json.material.map(|m| m.value()), first_target)?;
+            append(&mut out, prim, influences, prim_json.material, first_target)?;
         }
     }
     if out.indices.is_empty() {
@@ -206,12 +204,11 @@ pub(crate) fn merge_meshes(
 
 /// The accessors that reading mesh `mesh` may read: indices, vertex attributes and morph targets
 /// of every primitive (for [`SharedReads`]: one that appears more than once is decoded once).
-fn vertex_reads(root: &gltf_json::Root, mesh: usize) -> impl Iterator<Item = usize> + '_ {
+fn vertex_reads(root: &document::Root, mesh: usize) -> impl Iterator<Item = usize> + '_ {
     let primitives = root.meshes.get(mesh).map_or(&[][..], |m| &m.primitives[..]);
     primitives.iter().flat_map(|p| {
         let targets = p.targets.iter().flatten().flat_map(|t| [t.positions, t.normals]).flatten();
-        let accessors = p.attributes.values().chain(&p.indices).map(|a| a.value());
-        accessors.chain(targets.map(|a| a.value()))
+        p.attributes.iter().map(|&(_, a)| a).chain(p.indices).chain(targets)
     })
 }
 
@@ -220,28 +217,25 @@ fn vertex_reads(root: &gltf_json::Root, mesh: usize) -> impl Iterator<Item = usi
 /// space), the identity without one. The viewer samples only the base colour texture, so its
 /// transform is baked into the primitive's uvs: gltfpack stores quantized uvs and their
 /// dequantization this way.
-fn base_color_uv_transform(root: &gltf_json::Root, material: Option<usize>) -> Affine2 {
+fn base_color_uv_transform(root: &document::Root, material: Option<usize>) -> Affine2 {
     let transform = material
         .and_then(|m| root.materials.get(m))
-        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())
-        .and_then(|info| info.extensions.as_ref())
-        .and_then(|e| e.texture_transform.as_ref());
+        .and_then(|m| m.base_color_texture.as_ref())
+        .and_then(|info| info.transform.as_ref());
     let Some(t) = transform else { return Affine2::IDENTITY };
-    let (sin, cos) = t.rotation.0.sin_cos();
-    let [sx, sy] = t.scale.0;
+    let (sin, cos) = t.rotation.sin_cos();
+    let [sx, sy] = t.scale;
     let linear = Mat2::from_cols(Vec2::new(cos * sx, -sin * sx), Vec2::new(sin * sy, cos * sy));
-    Affine2::from_mat2_translation(linear, Vec2::from_array(t.offset.0))
+    Affine2::from_mat2_translation(linear, Vec2::from_array(t.offset))
 }
 
 /// The uv set `material`'s base colour texture samples: `KHR_texture_transform`'s `texCoord`
 /// override, else the texture info's `texCoord`, else 0; `None` when it has no base colour
 /// texture (or there is no material). The viewer samples only that texture, so its set becomes
 /// the primitive's uvs, and without it the primitive has none (see [`read_primitive`]).
-fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> Option<u32> {
-    let info = material
-        .and_then(|m| root.materials.get(m))
-        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())?;
-    let over = info.extensions.as_ref().and_then(|e| e.texture_transform.as_ref()).and_then(|t| t.tex_coord);
+fn base_color_uv_set(root: &document::Root, material: Option<usize>) -> Option<u32> {
+    let info = material.and_then(|m| root.materials.get(m)).and_then(|m| m.base_color_texture.as_ref())?;
+    let over = info.transform.as_ref().and_then(|t| t.tex_coord);
     Some(over.unwrap_or(info.tex_coord))
 }
 
@@ -250,19 +244,16 @@ fn base_color_uv_set(root: &gltf_json::Root, material: Option<usize>) -> Option<
 fn read_primitive(
     src: Source,
     shared: &mut SharedReads,
-    prim: &gltf_json::mesh::Primitive,
+    prim: &document::Primitive,
     label: &str,
     warnings: &mut Vec<String>,
 ) -> Result<Option<Primitive>, ImportError> {
-    let mode = match prim.mode {
-        Checked::Valid(mode) => mode,
-        Checked::Invalid => return Err(prim_error(label, "has an unknown primitive mode")),
-    };
+    let mode = prim.mode;
     if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
         warnings.push(format!("{label} draws {mode:?}, not triangles; skipped"));
         return Ok(None);
     }
-    let attribute = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|a| a.value());
+    let attribute = |s: Semantic| prim.attribute(&s);
     let Some(position_accessor) = attribute(Semantic::Positions) else {
         warnings.push(format!("{label} has no POSITION; skipped"));
         return Ok(None);
@@ -276,7 +267,7 @@ fn read_primitive(
     let count = file_positions.count();
     let (indices, indexed) = match prim.indices {
         Some(a) => {
-            let e = shared.uints(src, a.value(), &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
+            let e = shared.uints(src, a, &usage("indices"), &[Type::Scalar], MAX_INDICES)?;
             if let Some(&i) = e.values.iter().find(|&&i| i as usize >= count) {
                 return Err(prim_error(label, format!("index {i} is out of range for {count} vertices")));
             }
@@ -332,7 +323,7 @@ fn read_primitive(
         }
         None => None,
     };
-    let material = prim.material.map(|m| m.value());
+    let material = prim.material;
     // Texture coordinates that no texture samples draw nothing, so they are not read: kept, their
     // seams would hold the LOD build's collapses and their values be priced for nothing. Blender
     // writes a uv map into every file whose mesh has one, textured or not, and on a low-poly
@@ -411,7 +402,7 @@ fn read_primitive(
 fn read_targets(
     src: Source,
     shared: &mut SharedReads,
-    prim_json: &gltf_json::mesh::Primitive,
+    prim_json: &document::Primitive,
     prim: &mut Primitive,
     label: &str,
     morph: &mut MorphIndex,
@@ -428,10 +419,10 @@ fn read_targets(
     let count = prim.file_count;
     let mut rows: Vec<MorphRow> = vec![Vec::new(); prim.positions.len()];
     for (t, target) in targets.iter().enumerate() {
-        let mut read = |accessor: Option<gltf_json::Index<gltf_json::Accessor>>, what: &str| {
+        let mut read = |accessor: Option<usize>, what: &str| {
             let Some(a) = accessor else { return Ok(None) };
             let usage = format!("{what} of {label} morph target {t}");
-            let e = shared.floats(src, a.value(), &usage, &[Type::Vec3], MAX_VERTICES)?;
+            let e = shared.floats(src, a, &usage, &[Type::Vec3], MAX_VERTICES)?;
             if e.count() != count {
                 return Err(prim_error(
                     label,

@@ -4,9 +4,8 @@
 //! Images stay encoded (PNG, JPEG, …) for the browser to decode. An image in a format we cannot
 //! name is dropped with a warning and the material keeps its factor.
 
+use super::document::AlphaMode as JsonAlphaMode;
 use glam::Vec4;
-use gltf_json::material::AlphaMode as JsonAlphaMode;
-use gltf_json::validation::Checked;
 
 use super::accessor::Source;
 use super::container::load_image;
@@ -26,21 +25,25 @@ pub(crate) fn read_materials(
     for (m, json) in src.root.materials.iter().enumerate() {
         let name = json.name.clone().unwrap_or_else(|| format!("material {m}"));
         let invalid = |problem: &str| ImportError::Invalid(format!("material {m} ('{name}') {problem}"));
-        let pbr = &json.pbr_metallic_roughness;
-        let base_color_factor = Vec4::from_array(pbr.base_color_factor.0);
+        let base_color_factor = Vec4::from_array(json.base_color_factor);
         if !base_color_factor.is_finite() {
             return Err(invalid("has a non-finite base colour factor"));
         }
-        let base_color_texture = match &pbr.base_color_texture {
+        let base_color_texture = match &json.base_color_texture {
             None => None,
             Some(info) => {
-                let texture = src
-                    .root
-                    .textures
-                    .get(info.index.value())
-                    .ok_or_else(|| invalid("names a missing texture"))?;
-                if texture.source.value() == u32::MAX as usize {
-                    // gltf-json's marker for "no `source`": the image is only in an extension.
+                let texture =
+                    src.root.textures.get(info.index).ok_or_else(|| invalid("names a missing texture"))?;
+                if let Some(source) = texture.source {
+                    match load_image(src.root, src.buffers, source, resolve)? {
+                        Ok((bytes, mime_type)) => Some(TextureImage { bytes, mime_type }),
+                        Err(reason) => {
+                            warnings.push(format!("material '{name}': {reason}; its texture is dropped"));
+                            None
+                        }
+                    }
+                } else {
+                    // No `source`: the image is only in an extension.
                     let formats: Vec<&str> = (src.root.extensions_used.iter())
                         .map(String::as_str)
                         .filter(|e| TEXTURE_FORMAT_EXTENSIONS.contains(e))
@@ -56,29 +59,20 @@ pub(crate) fn read_materials(
                         ),
                     });
                     None
-                } else {
-                    match load_image(src.root, src.buffers, texture.source.value(), resolve)? {
-                        Ok((bytes, mime_type)) => Some(TextureImage { bytes, mime_type }),
-                        Err(reason) => {
-                            warnings.push(format!("material '{name}': {reason}; its texture is dropped"));
-                            None
-                        }
-                    }
                 }
             }
         };
         let alpha_mode = match json.alpha_mode {
-            Checked::Valid(JsonAlphaMode::Opaque) => AlphaMode::Opaque,
-            Checked::Valid(JsonAlphaMode::Blend) => AlphaMode::Blend,
-            Checked::Valid(JsonAlphaMode::Mask) => {
+            JsonAlphaMode::Opaque => AlphaMode::Opaque,
+            JsonAlphaMode::Blend => AlphaMode::Blend,
+            JsonAlphaMode::Mask => {
                 // §3.9.5: the default cutoff is 0.5.
-                let cutoff = json.alpha_cutoff.map_or(0.5, |c| c.0);
+                let cutoff = json.alpha_cutoff.unwrap_or(0.5);
                 if !cutoff.is_finite() {
                     return Err(invalid("has a non-finite alpha cutoff"));
                 }
                 AlphaMode::Mask { cutoff }
             }
-            Checked::Invalid => return Err(invalid("has an unknown alpha mode")),
         };
         materials.push(Material {
             name,

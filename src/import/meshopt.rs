@@ -17,7 +17,9 @@
 //! allowed only up to [`MAX_EXPANSION`] times its compressed size (and all views together that many
 //! times the file), so a forged count cannot make a small file allocate gigabytes.
 
-use gltf_json::{Root, Value};
+use serde_json::Value;
+
+use super::document::{BufferView, Root};
 
 use super::ImportError;
 
@@ -76,21 +78,14 @@ enum Filter {
 pub(crate) fn is_placeholder(root: &Root, index: usize) -> bool {
     let Some(buffer) = root.buffers.get(index) else { return false };
     let marked = EXTENSIONS.iter().any(|name| {
-        buffer
-            .extensions
-            .as_ref()
-            .and_then(|e| e.others.get(*name))
-            .and_then(|e| e.get("fallback"))
-            .and_then(Value::as_bool)
-            == Some(true)
+        buffer.extensions.get(*name).and_then(|e| e.get("fallback")).and_then(Value::as_bool) == Some(true)
     });
-    let views: Vec<_> = root.buffer_views.iter().filter(|v| v.buffer.value() == index).collect();
+    let views: Vec<_> = root.buffer_views.iter().filter(|v| v.buffer == index).collect();
     marked || (!views.is_empty() && views.iter().all(|v| extension_of(v).is_some()))
 }
 
-fn extension_of(view: &gltf_json::buffer::View) -> Option<(&'static str, &Value)> {
-    let others = &view.extensions.as_ref()?.others;
-    EXTENSIONS.iter().find_map(|name| others.get(*name).map(|v| (*name, v)))
+fn extension_of(view: &BufferView) -> Option<(&'static str, &Value)> {
+    EXTENSIONS.iter().find_map(|name| view.extensions.get(*name).map(|v| (*name, v)))
 }
 
 /// The decoded bytes of every compressed buffer view (`None` for the others), from the loaded
@@ -113,10 +108,10 @@ pub(crate) fn decode_views(root: &Root, buffers: &[&[u8]]) -> Result<Vec<Option<
         };
         let khr = name == EXTENSIONS[1];
         let c = parse(json, khr).map_err(fail)?;
-        if c.byte_stride * c.count != view.byte_length.0 as usize {
+        if c.byte_stride * c.count != view.byte_length as usize {
             return Err(fail(format!(
                 "decodes to {} × {} bytes but the buffer view has {}",
-                c.count, c.byte_stride, view.byte_length.0
+                c.count, c.byte_stride, view.byte_length
             )));
         }
         let source = buffers

@@ -221,7 +221,7 @@ fn random_bytes_never_panic() {
 
 #[test]
 fn extension_objects_follow_the_specifications_rules() {
-    let json = |s: &str| -> Value { gltf_json::deserialize::from_str(s).unwrap() };
+    let json = |s: &str| -> Value { serde_json::from_str(s).unwrap() };
     let ok = parse(
         &json(
             r#"{"buffer": 0, "byteLength": 9, "byteStride": 8, "count": 2, "mode": "ATTRIBUTES", "filter": "QUATERNION"}"#,

@@ -3,7 +3,8 @@
 //! animation clips and materials.
 //!
 //! The pipeline, in the order of this module's files:
-//! 1. `container`: split GLB chunks, parse and validate the JSON with the `gltf` crate, load buffers
+//! 1. `container`: split GLB chunks; `document`: read the JSON into checked types (every index in
+//!    range, every enum known, every required field present); `container` again: load buffers
 //!    (GLB binary chunk, base64 `data:` URIs, the caller's resolver for anything else) and decode
 //!    the buffer views stored meshopt-compressed (`meshopt`: `EXT_` and `KHR_meshopt_compression`);
 //!    then `draco` decodes the Draco-compressed primitives (`KHR_draco_mesh_compression`) from
@@ -31,6 +32,7 @@
 mod accessor;
 mod clips;
 mod container;
+mod document;
 mod draco;
 pub use draco::DracoDecoder;
 mod geometry;
@@ -38,7 +40,6 @@ mod material;
 mod meshopt;
 mod scene;
 
-use gltf_json::validation::Validate;
 use thiserror::Error;
 
 use crate::animation::CurveError;
@@ -256,102 +257,14 @@ fn skipped_list(skipped: &[String]) -> String {
     }
 }
 
-/// Parses the JSON with `gltf-json` (the `gltf` crate's document model) and runs its validation (references in range, enums
-/// known, required fields present).
-/// Animation channels that target no node (`KHR_animation_pointer` animates materials, lights
-/// and cameras through a JSON pointer instead) are dropped with a warning.
-fn parse_document(json: &[u8], warnings: &mut Vec<String>) -> Result<gltf_json::Root, ImportError> {
-    // A UTF-8 byte order mark is not JSON, but some tools write one.
-    let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
-    let root: gltf_json::Root = match gltf_json::deserialize::from_slice(json) {
-        Ok(root) => root,
-        Err(error) => {
-            without_nodeless_channels(json, warnings).ok_or_else(|| ImportError::Json(error.to_string()))?
-        }
-    };
-    if let Some(error) = first_unreadable(&root.extensions_required) {
-        return Err(error);
-    }
-    // gltf-json's primitive check indexes `accessors[POSITION]` without a bounds check: make sure
-    // that index exists before running it.
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, prim) in mesh.primitives.iter().enumerate() {
-            for (semantic, accessor) in &prim.attributes {
-                if accessor.value() >= root.accessors.len() {
-                    return Err(ImportError::Invalid(format!(
-                        "meshes[{m}].primitives[{p}].attributes[{semantic:?}] names accessor {} of {}",
-                        accessor.value(),
-                        root.accessors.len()
-                    )));
-                }
-            }
-        }
-    }
-    // The accessors a Draco stream fills in have no buffer view (`draco`).
-    let draco_accessors: Vec<String> = draco::compressed_accessors(&root)
-        .into_iter()
-        .map(|a| format!("accessors[{a}].bufferView"))
-        .collect();
-    let mut errors = Vec::new();
-    root.validate(&root, gltf_json::Path::new, &mut |path, error| {
-        let path = path();
-        let at = path.as_str();
-        let decoded =
-            error == gltf_json::validation::Error::Missing && draco_accessors.iter().any(|a| a == at);
-        // POSITION's min/max are required by the spec but only serve culling; we compute bounds
-        // ourselves, so files that omit them still load.
-        let bounds = at.ends_with(".min") || at.ends_with(".max");
-        // Required extensions were checked above against what we read.
-        let required = at.starts_with("extensionsRequired");
-        // A texture whose image is only in a texture-format extension has no core `source`;
-        // `material` drops it with a warning.
-        let textureless = at.starts_with("textures[")
-            && at.ends_with("].source")
-            && error == gltf_json::validation::Error::Missing;
-        if !(bounds || required || textureless || decoded) {
-            errors.push((path, error));
-        }
-    });
-    match errors.first() {
+/// Reads the JSON into checked types (`document`), refusing a file that requires an extension
+/// the importer cannot read.
+fn parse_document(json: &[u8], warnings: &mut Vec<String>) -> Result<document::Root, ImportError> {
+    let root = document::Root::read(json, warnings)?;
+    match first_unreadable(&root.extensions_required) {
+        Some(error) => Err(error),
         None => Ok(root),
-        Some((path, error)) => {
-            let more = match errors.len() {
-                1 => String::new(),
-                n => format!(" (and {} more problems)", n - 1),
-            };
-            Err(ImportError::Invalid(format!("{}: {error}{more}", path.as_str())))
-        }
     }
-}
-
-/// The document without its animation channels that target no node, when it has such channels
-/// and parses without them (gltf-json requires `target.node`, which `KHR_animation_pointer`
-/// leaves out); `None` otherwise, so that the first parse error is the one reported.
-fn without_nodeless_channels(json: &[u8], warnings: &mut Vec<String>) -> Option<gltf_json::Root> {
-    let mut document: gltf_json::Value = gltf_json::deserialize::from_slice(json).ok()?;
-    let mut dropped = Vec::new();
-    for (a, animation) in document.get_mut("animations")?.as_array_mut()?.iter_mut().enumerate() {
-        let name = animation.get("name").and_then(|n| n.as_str()).map(|n| format!(" ('{n}')"));
-        let Some(channels) = animation.get_mut("channels").and_then(|c| c.as_array_mut()) else { continue };
-        let before = channels.len();
-        channels.retain(|channel| channel.get("target").is_none_or(|target| target.get("node").is_some()));
-        if channels.len() < before {
-            dropped.push(format!("animation {a}{}: {}", name.unwrap_or_default(), before - channels.len()));
-        }
-    }
-    if dropped.is_empty() {
-        return None;
-    }
-    // Written out and read again rather than read from the `Value`: `from_value` would compile a
-    // second copy of every glTF type's derived reader (for `Value` as the source) into the wasm.
-    let json = gltf_json::serialize::to_vec(&document).ok()?;
-    let root = gltf_json::deserialize::from_slice(&json).ok()?;
-    warnings.push(format!(
-        "animation channels that target no node (KHR_animation_pointer: materials, lights, cameras) are \
-         dropped: {}",
-        dropped.join(", ")
-    ));
-    Some(root)
 }
 
 /// The whole pipeline; see the module docs.

@@ -8,8 +8,8 @@
 
 use std::collections::HashMap;
 
+use super::document::{Root, Type};
 use glam::{Mat4, Quat, Vec3};
-use gltf_json::Root;
 
 use super::accessor::{read_floats, Source};
 use super::{ImportError, MAX_JOINTS};
@@ -75,10 +75,10 @@ fn mesh_instances(
         visited[i] = true;
         let node = &root.nodes[i];
         if let Some(mesh) = node.mesh {
-            instances.push(MeshInstance { node: i, mesh: mesh.value(), skin: node.skin.map(|s| s.value()) });
+            instances.push(MeshInstance { node: i, mesh, skin: node.skin });
         }
-        for child in node.children.iter().flatten().rev() {
-            stack.push(child.value());
+        for &child in node.children.iter().rev() {
+            stack.push(child);
         }
     }
     Ok(instances)
@@ -93,8 +93,7 @@ impl SceneGraph {
         let n = root.nodes.len();
         let mut parent = vec![None; n];
         for (p, node) in root.nodes.iter().enumerate() {
-            for child in node.children.iter().flatten() {
-                let c = child.value();
+            for &c in &node.children {
                 if c >= n {
                     return Err(node_error(root, p, format!("has child {c} but there are {n} nodes")));
                 }
@@ -108,8 +107,8 @@ impl SceneGraph {
             }
         }
         // The scene's root nodes: the marked scene, else scene 0, else every parentless node.
-        let roots: Vec<usize> = match root.scene.map_or(0, |s| s.value()) {
-            s if s < root.scenes.len() => root.scenes[s].nodes.iter().map(|i| i.value()).collect(),
+        let roots: Vec<usize> = match root.scene.unwrap_or(0) {
+            s if s < root.scenes.len() => root.scenes[s].nodes.clone(),
             _ if root.scenes.is_empty() => (0..n).filter(|&i| parent[i].is_none()).collect(),
             s => return Err(ImportError::Invalid(format!("default scene {s} does not exist"))),
         };
@@ -119,7 +118,7 @@ impl SceneGraph {
         let mut chosen_scene = None;
         if root.scene.is_none() && instances.is_empty() {
             for (s, scene) in root.scenes.iter().enumerate().skip(1) {
-                let roots: Vec<usize> = scene.nodes.iter().map(|i| i.value()).collect();
+                let roots: Vec<usize> = scene.nodes.clone();
                 instances = mesh_instances(root, &parent, &roots)?;
                 if !instances.is_empty() {
                     chosen_scene = Some(s);
@@ -149,7 +148,7 @@ impl SceneGraph {
                         format!("uses skin {skin} but there are {}", root.skins.len()),
                     )
                 })?;
-                seeds.extend(skin_json.joints.iter().map(|j| j.value()));
+                seeds.extend(&skin_json.joints);
             }
         }
         for seed in seeds {
@@ -187,9 +186,9 @@ impl SceneGraph {
                 parent: self.parent[i].and_then(|p| slots[p]),
                 rest: rest_transform(root, i)?,
             });
-            for child in root.nodes[i].children.iter().flatten().rev() {
-                if needed[child.value()] {
-                    stack.push(child.value());
+            for &child in root.nodes[i].children.iter().rev() {
+                if needed[child] {
+                    stack.push(child);
                 }
             }
         }
@@ -219,7 +218,7 @@ fn rest_transform(root: &Root, index: usize) -> Result<Transform, ImportError> {
         }
         None => Transform {
             translation: node.translation.map_or(Vec3::ZERO, Vec3::from_array),
-            rotation: node.rotation.map_or(Quat::IDENTITY, |r| Quat::from_array(r.0)),
+            rotation: node.rotation.map_or(Quat::IDENTITY, Quat::from_array),
             scale: node.scale.map_or(Vec3::ONE, Vec3::from_array),
         },
     };
@@ -285,18 +284,17 @@ impl JointTable {
             let matrices = match skin_json.inverse_bind_matrices {
                 Some(a) => {
                     let usage = format!("inverse bind matrices of skin {skin}");
-                    let m =
-                        read_floats(src, a.value(), &usage, &[gltf_json::accessor::Type::Mat4], MAX_JOINTS)?;
+                    let m = read_floats(src, a, &usage, &[Type::Mat4], MAX_JOINTS)?;
                     if m.count() < count {
                         return Err(ImportError::Accessor {
-                            index: a.value(),
+                            index: a,
                             usage,
                             problem: format!("has {} matrices for {count} joints", m.count()),
                         });
                     }
                     if !m.values.iter().all(|v| v.is_finite()) {
                         return Err(ImportError::Accessor {
-                            index: a.value(),
+                            index: a,
                             usage,
                             problem: "has non-finite values".into(),
                         });
@@ -306,12 +304,11 @@ impl JointTable {
                 None => Mat4::IDENTITY.to_cols_array().repeat(count),
             };
             let mut remap = Vec::with_capacity(count);
-            for (k, joint) in skin_json.joints.iter().enumerate() {
+            for (k, &joint) in skin_json.joints.iter().enumerate() {
                 // Every joint was marked needed by `SceneGraph::skeleton`.
-                let node = slots.get(joint.value()).copied().flatten().ok_or_else(|| {
+                let node = slots.get(joint).copied().flatten().ok_or_else(|| {
                     ImportError::Invalid(format!(
-                        "skin {skin} joint {k} names node {} outside the scene",
-                        joint.value()
+                        "skin {skin} joint {k} names node {joint} outside the scene"
                     ))
                 })?;
                 let cols: [f32; 16] = matrices[16 * k..16 * k + 16].try_into().unwrap_or([0.0; 16]);

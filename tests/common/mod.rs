@@ -58,9 +58,9 @@ fn is_ci() -> bool {
 pub use clod_viewer::metrics::SplitMix64 as SplitMix;
 
 /// Splits a GLB into its JSON (as a value) and binary chunk, by hand.
-pub fn split_glb(bytes: &[u8]) -> (gltf_json::Value, Vec<u8>) {
+pub fn split_glb(bytes: &[u8]) -> (serde_json::Value, Vec<u8>) {
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let json = gltf_json::deserialize::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let json = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
     let bin_at = 20 + json_len;
     let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
     (json, bytes[bin_at + 8..bin_at + 8 + bin_len].to_vec())
@@ -70,7 +70,7 @@ pub fn split_glb(bytes: &[u8]) -> (gltf_json::Value, Vec<u8>) {
 /// check the importer's answer. Two joints: `root` at the origin and `tip` at (0, 1, 0) below it;
 /// node `tri` carries the mesh and the skin. One clip moves `tip` from (0, 1, 0) to (1, 1, 0).
 pub struct TinyModel {
-    pub json: gltf_json::Value,
+    pub json: serde_json::Value,
     pub bin: Vec<u8>,
 }
 
@@ -149,7 +149,7 @@ impl TinyModel {
             {"bufferView": 6, "componentType": 5126, "count": 2, "type": "VEC3"}
           ]
         }"#;
-        Self { json: gltf_json::deserialize::from_str(json).unwrap(), bin }
+        Self { json: serde_json::from_str(json).unwrap(), bin }
     }
 
     /// Overwrites `values.len()` floats at byte `at` of the buffer.
@@ -165,13 +165,13 @@ impl TinyModel {
             "data:application/octet-stream;base64,{}",
             base64::engine::general_purpose::STANDARD.encode(&self.bin)
         );
-        json["buffers"][0]["uri"] = gltf_json::Value::from(uri);
-        gltf_json::serialize::to_vec(&json).unwrap()
+        json["buffers"][0]["uri"] = serde_json::Value::from(uri);
+        serde_json::to_vec(&json).unwrap()
     }
 
     /// `.glb` bytes: the JSON chunk and the buffer as binary chunk.
     pub fn glb(&self) -> Vec<u8> {
-        let mut json = gltf_json::serialize::to_vec(&self.json).unwrap();
+        let mut json = serde_json::to_vec(&self.json).unwrap();
         json.resize(json.len().next_multiple_of(4), b' ');
         let mut bin = self.bin.clone();
         bin.resize(bin.len().next_multiple_of(4), 0);
