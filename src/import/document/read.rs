@@ -312,6 +312,14 @@ fn node(node: &At, n: &Lengths) -> Result<Node, String> {
     })
 }
 
+/// A whole number ≥ 0: an integer as JSON writes it, or a number with no fraction (`3.0`, as
+/// some writers print every number), up to 2^53 where doubles still count in ones.
+fn whole(value: &Value) -> Option<u64> {
+    const EXACT: f64 = (1u64 << 53) as f64;
+    let float = || value.as_f64().filter(|x| x.fract() == 0.0 && (0.0..=EXACT).contains(x)).map(|x| x as u64);
+    value.as_u64().or_else(float)
+}
+
 /// A value as a message quotes it: a number or string as written, anything else by its kind.
 fn shown(value: &Value) -> String {
     match value {
@@ -376,7 +384,7 @@ impl<'v> At<'v> {
         Ok(self.array(key)?.map(move |items| {
             items.iter().enumerate().map(move |(i, item)| match item {
                 Value::Object(object) => Ok(At { object, path: format!("{path}[{i}]") }),
-                other => Err(format!("{path}[{i}]: must be an object, got {}", kind(other))),
+                other => Err(format!("{path}[{i}]: must be an object, got {}", shown(other))),
             })
         }))
     }
@@ -399,7 +407,7 @@ impl<'v> At<'v> {
     fn uint(&self, key: &str) -> Result<Option<u64>, String> {
         match self.get(key) {
             None => Ok(None),
-            Some(value) => match value.as_u64() {
+            Some(value) => match whole(value) {
                 Some(n) => Ok(Some(n)),
                 None => Err(self.wrong(key, "a whole number ≥ 0", value)),
             },
@@ -427,7 +435,7 @@ impl<'v> At<'v> {
     fn indices_if_present(&self, key: &str, len: usize) -> Result<Option<Vec<usize>>, String> {
         let Some(items) = self.array(key)? else { return Ok(None) };
         let path = self.field_path(key);
-        let index = |(k, item): (usize, &Value)| match item.as_u64() {
+        let index = |(k, item): (usize, &Value)| match whole(item) {
             Some(i) if i < len as u64 => Ok(i as usize),
             Some(i) => Err(format!("{path}[{k}]: index {i} is out of range (there are {len})")),
             None => Err(format!("{path}[{k}]: must be a whole number ≥ 0, got {}", shown(item))),
@@ -595,13 +603,27 @@ mod tests {
             invalid(|v| v["animations"][0]["channels"][0]["sampler"] = 1.into()),
             "animations[0].channels[0].sampler: index 1 is out of range (there are 1)"
         );
-        assert_eq!(invalid(|v| v["meshes"][0] = 3.into()), "meshes[0]: must be an object, got a number");
+        assert_eq!(invalid(|v| v["meshes"][0] = 3.into()), "meshes[0]: must be an object, got 3");
+        assert_eq!(
+            invalid(|v| v["accessors"][0]["count"] = 2.5.into()),
+            "accessors[0].count: must be a whole number ≥ 0, got 2.5"
+        );
         assert_eq!(
             invalid(|v| v["asset"]["version"] = "1.0".into()),
             "asset.version: this is glTF 1.0; the viewer reads glTF 2.0"
         );
         assert!(matches!(Root::read(b"{\"nodes\": [", &mut Vec::new()), Err(ImportError::Json(_))));
         assert!(matches!(Root::read(b"[]", &mut Vec::new()), Err(ImportError::Invalid(_))));
+    }
+
+    #[test]
+    fn whole_numbers_written_with_a_point_are_whole_numbers() {
+        let (root, _) = read(|v| {
+            v["accessors"][0]["count"] = 3.0.into();
+            v["nodes"][0]["mesh"] = 0.0.into();
+        })
+        .unwrap();
+        assert_eq!((root.accessors[0].count, root.nodes[0].mesh), (3, Some(0)));
     }
 
     #[test]
