@@ -142,10 +142,11 @@ fn accessor(a: &At, n: &Lengths) -> Result<Accessor, String> {
 
 fn buffer_view(v: &At, n: &Lengths) -> Result<BufferView, String> {
     let byte_stride = match v.uint("byteStride")? {
-        None => None,
-        // §3.6.1.1: 4 to 252; the importer checks it against the element size.
-        Some(s) if s > 0 && s <= 252 => Some(s as usize),
-        Some(s) => return Err(format!("{}.byteStride: {s} is not a stride from 1 to 252", v.path)),
+        // 0 is glTF 1.0's "tightly packed", which some writers still put there.
+        None | Some(0) => None,
+        // §3.6.1.1 allows 4 to 252; the importer checks a stride against its elements' size.
+        Some(s) if s <= 252 => Some(s as usize),
+        Some(s) => return Err(format!("{}.byteStride: {s} is more than 252", v.path)),
     };
     Ok(BufferView {
         buffer: v.required("buffer", v.index("buffer", n.buffers)?)?,
@@ -567,6 +568,7 @@ mod tests {
         assert_eq!(p.attribute(&super::Semantic::Positions), Some(0));
         assert_eq!(p.attribute(&super::Semantic::Other("_BATCHID".into())), Some(1));
         assert_eq!((root.buffer_views[0].byte_offset, root.buffer_views[1].byte_offset), (0, 36));
+        assert_eq!(root.buffer_views[0].byte_stride, None);
         assert_eq!(root.accessors[0].byte_offset, 0);
         assert!(!root.accessors[0].normalized);
         assert_eq!(root.animations[0].samplers[0].interpolation, super::Interpolation::Linear);
@@ -617,13 +619,15 @@ mod tests {
     }
 
     #[test]
-    fn whole_numbers_written_with_a_point_are_whole_numbers() {
+    fn what_older_writers_put_still_reads() {
         let (root, _) = read(|v| {
             v["accessors"][0]["count"] = 3.0.into();
             v["nodes"][0]["mesh"] = 0.0.into();
+            v["bufferViews"][1]["byteStride"] = 0.into();
         })
         .unwrap();
         assert_eq!((root.accessors[0].count, root.nodes[0].mesh), (3, Some(0)));
+        assert_eq!(root.buffer_views[1].byte_stride, None, "0 is glTF 1.0's tightly packed");
     }
 
     #[test]
