@@ -100,8 +100,8 @@ impl Renderer {
             &self.device,
             &self.layouts,
             &layout,
-            self.color_format,
-            self.sample_count,
+            self.canvas.color_format,
+            self.canvas.sample_count,
         );
         self.crowd = Some(CrowdGpu {
             pipelines,
@@ -113,8 +113,8 @@ impl Renderer {
             ground_pipeline: create_ground_pipeline(
                 &self.device,
                 &self.layouts,
-                self.color_format,
-                self.sample_count,
+                self.canvas.color_format,
+                self.canvas.sample_count,
             ),
             ground: self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("crowd ground"),
@@ -167,7 +167,7 @@ impl Renderer {
         pass.set_bind_group(3, &crowd.palette_group, &[]);
         let stride = std::mem::size_of::<InstanceRaw>() as u64;
         for draw in draws {
-            let Some(level) = self.levels.get(draw.level) else { continue };
+            let Some(level) = self.meshes.discrete(draw.level) else { continue };
             // A level's own buffer pairs each vertex with its ancestor one level coarser: the only
             // geomorph a crowd draws.
             if draw.morph_coarse.is_some_and(|c| c != draw.level + 1) || draw.count == 0 {
@@ -178,7 +178,7 @@ impl Renderer {
             pass.set_vertex_buffer(1, crowd.instances.slice(records));
             pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
             for &(first, count, material) in &level.ranges {
-                let m = &self.materials[material];
+                let m = &self.meshes.materials[material];
                 let key = (draw.pass, draw.morph_coarse.is_some(), !m.double_sided);
                 pass.set_pipeline(&crowd.pipelines[&key]);
                 pass.set_bind_group(1, &m.bind_group, &[]);

@@ -172,7 +172,13 @@ impl Renderer {
             Some(meter) if fits(meter) => meter,
             slot => {
                 let flip = self.flip.is_some();
-                slot.insert(MeterGpu::new(&self.device, self.color_format, self.sample_count, aspect, flip))
+                slot.insert(MeterGpu::new(
+                    &self.device,
+                    self.canvas.color_format,
+                    self.canvas.sample_count,
+                    aspect,
+                    flip,
+                ))
             }
         };
         frame.meter?;
@@ -185,7 +191,7 @@ impl Renderer {
             flip.set_kernels(
                 &self.queue,
                 DEFAULT_PPD * METER_HEIGHT as f32 / view_height,
-                !self.color_format.is_srgb(),
+                !self.canvas.color_format.is_srgb(),
             );
         }
         let picture_bytes = u64::from(padded_row(meter.width)) * u64::from(meter.height);
@@ -239,7 +245,7 @@ impl Renderer {
             }
             _ => view_picture.clone(),
         };
-        let clear = wgpu::Color { a: 0.0, ..frame_targets::background_for(self.color_format) };
+        let clear = wgpu::Color { a: 0.0, ..frame_targets::background_for(self.canvas.color_format) };
         for (i, picture) in plans.iter().enumerate() {
             let (color, resolve) = match &meter.msaa {
                 Some(msaa) => (msaa, Some(&meter.views[i])),

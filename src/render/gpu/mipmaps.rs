@@ -104,7 +104,7 @@ impl Renderer {
     /// # Errors
     /// [`RenderError::Readback`] when the GPU cannot map a copy.
     pub async fn texture_levels(&self, material: usize) -> Result<Vec<TextureLevel>, RenderError> {
-        let Some(texture) = self.materials.get(material).and_then(|m| m.texture.as_ref()) else {
+        let Some(texture) = self.meshes.materials.get(material).and_then(|m| m.texture.as_ref()) else {
             return Ok(Vec::new());
         };
         let mut levels = Vec::new();

@@ -12,7 +12,6 @@ use std::sync::{Arc, Mutex};
 
 use glam::Mat4;
 use thiserror::Error;
-use wgpu::util::DeviceExt;
 
 mod crowd;
 mod difference;
@@ -21,6 +20,7 @@ pub use flip::MAX_PPD;
 mod frame_targets;
 mod frame_uniforms;
 mod joints;
+mod meshes;
 mod meter;
 pub use meter::{MeterFrame, METER_HEIGHT};
 mod mipmaps;
@@ -30,10 +30,11 @@ mod pipelines;
 mod readback;
 mod resources;
 
-use frame_targets::{background_for, begin_pass, surface_config, targets, ViewTargets};
+use frame_targets::{background_for, begin_pass, Canvas};
 use frame_uniforms::FrameUniforms;
+use meshes::CharacterMeshes;
 use pipelines::{create_pipelines, BindLayouts, Pipelines};
-use resources::{upload_level, upload_materials};
+use resources::upload_materials;
 
 use super::crowd::CrowdFrame;
 use super::layout::Rect;
@@ -73,33 +74,12 @@ const BONE_VERTEX_STRIDE: u64 = 12;
 /// Draw-call slots of the per-draw uniform buffer, all written before one submit: 3 views × 2
 /// draws, and the live meter's reference, 3 views × 2 draws and their 3 controls × 2 draws.
 const DRAW_SLOTS: u64 = 19;
-/// Level-skipping geomorph buffers kept: a dolly moves between neighbouring pairs, so a few
-/// cover it, and each costs as much as its fine level's vertex buffer (3.7 MB for the built-in
-/// character's finest level).
-const MORPH_PAIRS: usize = 4;
 /// WebGPU's and WebGL2's minimum uniform offset alignment: the stride of the draw slots.
 const DRAW_STRIDE: u64 = 256;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 /// Background: a cool mid grey, linear (drawn as about #8a96a6 in sRGB), light enough that dark
 /// clothes stand out and dark enough that light skin does.
 const BACKGROUND: wgpu::Color = wgpu::Color { r: 0.25, g: 0.3, b: 0.38, a: 1.0 };
-
-struct LevelGpu {
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    /// Line list of the level's edges (the wireframe overlay).
-    edges: wgpu::Buffer,
-    edge_count: u32,
-    /// `(first_index, index_count, material slot)`.
-    ranges: Vec<(u32, u32, usize)>,
-}
-
-struct MaterialGpu {
-    bind_group: wgpu::BindGroup,
-    double_sided: bool,
-    /// The decoded base-colour texture with its mip levels (`None`: the default white texel).
-    texture: Option<wgpu::Texture>,
-}
 
 /// Pipeline key: pass kind, geomorph vertex shader, back-face culling.
 type PipelineKey = (PassKind, bool, bool);
@@ -139,30 +119,12 @@ pub struct Pixels {
 pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    /// Format the pipelines render to (the surface's, or its sRGB view).
-    color_format: wgpu::TextureFormat,
-    sample_count: u32,
-    /// Full-canvas depth and MSAA targets, when views draw straight into the canvas.
-    direct: Option<(wgpu::TextureView, Option<wgpu::TextureView>)>,
-    /// View-size targets, when each view draws at the origin of its own texture and is copied
-    /// into place (see [`Renderer::composed`]).
-    view_targets: Option<ViewTargets>,
-    /// Whether views are drawn separately and copied into the frame. Drawing every view at the
-    /// same origin makes equal views bit-identical (the viewport transform's rounding depends on
-    /// the view's offset); it needs a canvas that accepts copies, which WebGPU's always does.
-    composed: bool,
+    /// The canvas's surface and the targets the views draw into (`frame_targets.rs`).
+    canvas: Canvas,
     /// The uniforms every draw reads, and their bind groups (`frame_uniforms.rs`).
     uniforms: FrameUniforms,
-    materials: Vec<MaterialGpu>,
-    levels: Vec<LevelGpu>,
-    /// The continuous slider's meshes, drawn as levels `levels.len()` (the finer state, its
-    /// vertices paired with their ancestors in the coarser) and `levels.len() + 1` (the coarser).
-    continuous: Vec<LevelGpu>,
-    /// Vertex buffers of level `fine` paired with its ancestors in level `coarse > fine + 1`, for
-    /// geomorphs that skip levels; most recently used last, at most [`MORPH_PAIRS`].
-    morph_pairs: Vec<((usize, usize), wgpu::Buffer)>,
+    /// The character's materials and levels (`meshes.rs`).
+    meshes: CharacterMeshes,
     /// The live meter's targets and readbacks, made on first use.
     meter: Option<meter::MeterGpu>,
     /// The difference overlay's pipeline.
@@ -250,16 +212,7 @@ impl Renderer {
             }
         });
 
-        let caps = surface.get_capabilities(&adapter);
-        let (config, color_format) = surface_config(&caps, choice, width, height)
-            .ok_or_else(|| RenderError::Surface(backend, "no usable surface format".into()))?;
-        surface.configure(&device, &config);
-        let sample_count =
-            if adapter.get_texture_format_features(color_format).flags.sample_count_supported(4) {
-                4
-            } else {
-                1
-            };
+        let canvas = Canvas::new(surface, &adapter, &device, (choice, backend), (width, height))?;
 
         let layouts = BindLayouts::new(&device);
         let uniforms = FrameUniforms::new(
@@ -270,18 +223,12 @@ impl Renderer {
             &lod.morph_texels,
         )?;
         let materials = upload_materials(&device, &queue, &layouts.material, character).await?;
-        let default_slot = materials.len() - 1;
-        let mut levels = Vec::with_capacity(lod.levels.len());
-        for level in &lod.levels {
-            next_task().await;
-            levels.push(upload_level(&device, level, default_slot));
-        }
+        let meshes = CharacterMeshes::new(&device, materials, lod).await;
         next_task().await;
-        let pipelines = create_pipelines(&device, &layouts, color_format, sample_count);
-        let composed = config.usage.contains(wgpu::TextureUsages::COPY_DST);
-        let direct = (!composed).then(|| targets(&device, color_format, sample_count, width, height));
+        let pipelines = create_pipelines(&device, &layouts, canvas.color_format, canvas.sample_count);
         let info = adapter.get_info();
-        let difference = Some(difference::DifferenceGpu::new(&device, color_format, sample_count));
+        let difference =
+            Some(difference::DifferenceGpu::new(&device, canvas.color_format, canvas.sample_count));
         let float_targets = adapter
             .get_texture_format_features(wgpu::TextureFormat::Rgba32Float)
             .allowed_usages
@@ -290,18 +237,9 @@ impl Renderer {
         Ok(Self {
             device,
             queue,
-            surface,
-            config,
-            color_format,
-            sample_count,
-            direct,
-            view_targets: Default::default(),
-            composed,
+            canvas,
             uniforms,
-            materials,
-            levels,
-            continuous: Vec::new(),
-            morph_pairs: Default::default(),
+            meshes,
             meter: Default::default(),
             difference,
             flip,
@@ -316,27 +254,28 @@ impl Renderer {
 
     /// Whether the shader must encode sRGB itself (the target format is not sRGB).
     pub fn encodes_srgb_in_shader(&self) -> bool {
-        !self.color_format.is_srgb()
+        !self.canvas.color_format.is_srgb()
     }
 
     /// MSAA sample count in use (4, or 1 where the format cannot multisample).
     pub fn sample_count(&self) -> u32 {
-        self.sample_count
+        self.canvas.sample_count
     }
 
-    /// Whether views are drawn apart and copied into the frame (see the field's docs).
+    /// Whether views are drawn apart and copied into the frame: equal views are then
+    /// bit-identical (see `Canvas::composed`).
     pub fn composed(&self) -> bool {
-        self.composed
+        self.canvas.composed
     }
 
     /// Name of the colour format the views render in.
     pub fn color_format_name(&self) -> String {
-        format!("{:?}", self.color_format)
+        format!("{:?}", self.canvas.color_format)
     }
 
     /// Current framebuffer size.
     pub fn size(&self) -> (u32, u32) {
-        (self.config.width, self.config.height)
+        self.canvas.size()
     }
 
     /// Errors reported since the last call (validation, device loss, surface trouble).
@@ -347,83 +286,37 @@ impl Renderer {
     /// Replaces the discrete levels (the LOD chain arriving after the full mesh), yielding to the
     /// browser between levels; drops the slider's meshes and the level-skipping geomorphs.
     pub async fn set_levels(&mut self, lod: &LodSource) {
-        let default_slot = self.materials.len() - 1;
-        let mut levels = Vec::with_capacity(lod.levels.len());
-        for level in &lod.levels {
-            levels.push(upload_level(&self.device, level, default_slot));
-            next_task().await;
-        }
-        self.levels = levels;
-        self.continuous.clear();
-        self.morph_pairs.clear();
+        self.meshes.set_levels(&self.device, lod).await;
         self.set_morph_deltas(lod);
     }
 
     /// Uploads the continuous slider's meshes (drawn as levels `levels`, `levels + 1`, …), or
     /// drops them (empty).
     pub fn set_continuous_levels(&mut self, levels: &[LevelData]) {
-        let default_slot = self.materials.len() - 1;
-        self.continuous = levels.iter().map(|l| upload_level(&self.device, l, default_slot)).collect();
+        self.meshes.set_continuous(&self.device, levels);
     }
 
     /// Whether the geomorph buffer of level `fine` towards level `coarse` is uploaded.
     pub fn has_morph_pair(&self, fine: usize, coarse: usize) -> bool {
-        self.morph_pairs.iter().any(|(key, _)| *key == (fine, coarse))
+        self.meshes.morph_pair(fine, coarse).is_some()
     }
 
     /// Uploads level `fine`'s vertices paired with their ancestors in level `coarse`
     /// ([`LodSource::morph_vertices`]), dropping the least recently used pair beyond
     /// `MORPH_PAIRS`.
     pub fn add_morph_pair(&mut self, fine: usize, coarse: usize, vertices: &[GeomorphVertexRaw]) {
-        let buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("level-skipping geomorph"),
-            contents: bytemuck::cast_slice(vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let pairs = &mut self.morph_pairs;
-        pairs.retain(|(key, _)| *key != (fine, coarse));
-        if pairs.len() >= MORPH_PAIRS {
-            pairs.remove(0);
-        }
-        pairs.push(((fine, coarse), buffer));
-    }
-
-    /// The mesh drawn as `level`: a discrete level or one of the slider's.
-    fn level_gpu(&self, level: usize) -> Option<&LevelGpu> {
-        self.levels.get(level).or_else(|| self.continuous.get(level.checked_sub(self.levels.len())?))
+        self.meshes.add_morph_pair(&self.device, (fine, coarse), vertices);
     }
 
     /// Resizes the surface and the depth and MSAA targets; a zero size is ignored.
     pub fn resize(&mut self, width: u32, height: u32) {
-        let max = self.device.limits().max_texture_dimension_2d;
-        let (width, height) = (width.min(max), height.min(max));
-        if width == 0 || height == 0 || (width, height) == (self.config.width, self.config.height) {
-            return;
-        }
-        self.config.width = width;
-        self.config.height = height;
-        self.surface.configure(&self.device, &self.config);
-        if !self.composed {
-            self.direct = Some(targets(&self.device, self.color_format, self.sample_count, width, height));
-        }
+        self.canvas.resize(&self.device, width, height);
     }
 
     /// Draws a frame to the canvas; returns whether its meter pictures will be read back (a
     /// frame that finds every readback in flight is not measured).
     pub fn render(&mut self, frame: &FrameInput) -> bool {
-        let texture = match self.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return false,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                // Reconfigure and draw next frame; a surface that stays lost shows up as errors.
-                self.surface.configure(&self.device, &self.config);
-                return false;
-            }
-            other => {
-                push_error(&self.errors, NO_FRAME, &format!("the canvas could not give a frame: {other:?}"));
-                return false;
-            }
-        };
+        let Some(texture) = self.canvas.current_texture(&self.device, &self.errors) else { return false };
         let buffer = self.prepare(frame);
         let (commands, readback) = self.encode(frame, &texture.texture, buffer);
         self.queue.submit([commands]);
@@ -440,12 +333,7 @@ impl Renderer {
     /// the difference overlay. Returns a readback buffer for a measured frame, unless every
     /// readback is in flight.
     fn prepare(&mut self, frame: &FrameInput) -> Option<wgpu::Buffer> {
-        let size = frame.views[0].0;
-        let fits = |t: &ViewTargets| (t.width, t.height) == (size.width, size.height);
-        if self.composed && !self.view_targets.as_ref().is_some_and(fits) {
-            self.view_targets = (size.width > 0 && size.height > 0)
-                .then(|| ViewTargets::new(&self.device, self.color_format, self.sample_count, size));
-        }
+        self.canvas.fit_view_targets(&self.device, frame.views[0].0);
         if frame.meter.is_some() || frame.overlay == Overlay::Difference {
             self.prepare_meter(frame)
         } else {
@@ -481,11 +369,13 @@ impl Renderer {
                 self.draw_difference(pass, i, origin, rect, picture);
             }
         };
-        if self.composed {
+        if self.canvas.composed {
             // The background (gaps between views), then each view drawn at its texture's origin
             // and copied into place.
             drop(begin_pass(&mut encoder, &target_view, None, None, background_for(target.format())));
-            let Some(targets) = self.view_targets.as_ref() else { return (encoder.finish(), readback) };
+            let Some(targets) = self.canvas.view_targets.as_ref() else {
+                return (encoder.finish(), readback);
+            };
             for (i, (rect, plan)) in frame.views.iter().enumerate() {
                 if !visible(rect) || (rect.width, rect.height) != (targets.width, targets.height) {
                     continue;
@@ -513,7 +403,7 @@ impl Renderer {
                     wgpu::Extent3d { width: rect.width, height: rect.height, depth_or_array_layers: 1 },
                 );
             }
-        } else if let Some((depth, msaa)) = &self.direct {
+        } else if let Some((depth, msaa)) = &self.canvas.direct {
             let (color, resolve_target) = match msaa {
                 Some(msaa) => (msaa, Some(&target_view)),
                 None => (&target_view, None),
@@ -523,7 +413,7 @@ impl Renderer {
                 color,
                 resolve_target,
                 Some(depth),
-                background_for(self.color_format),
+                background_for(self.canvas.color_format),
             );
             for (i, (rect, plan)) in frame.views.iter().enumerate() {
                 if !visible(rect) {
@@ -589,23 +479,21 @@ impl Renderer {
                 ..DrawRaw::default()
             };
             self.queue.write_buffer(&self.uniforms.draws, offset, bytemuck::bytes_of(&raw));
-            let Some(level) = self.level_gpu(draw.level) else { continue };
+            let Some(level) = self.meshes.level(draw.level) else { continue };
             // A level's own buffer pairs each vertex with its ancestor one level coarser; a
             // geomorph that skips levels reads its uploaded pair buffer.
             let vertices = match draw.morph {
-                Some(m) if m.coarse != draw.level + 1 => {
-                    match self.morph_pairs.iter().find(|(key, _)| *key == (draw.level, m.coarse)) {
-                        Some((_, buffer)) => buffer,
-                        None => continue,
-                    }
-                }
+                Some(m) if m.coarse != draw.level + 1 => match self.meshes.morph_pair(draw.level, m.coarse) {
+                    Some(buffer) => buffer,
+                    None => continue,
+                },
                 _ => &level.vertices,
             };
             pass.set_bind_group(2, &self.uniforms.draw_group, &[offset as u32]);
             pass.set_vertex_buffer(0, vertices.slice(..));
             pass.set_index_buffer(level.indices.slice(..), wgpu::IndexFormat::Uint32);
             for &(first, count, material) in &level.ranges {
-                let m = &self.materials[material];
+                let m = &self.meshes.materials[material];
                 let key = (draw.pass, draw.morph.is_some(), !m.double_sided);
                 pass.set_pipeline(&self.pipelines.shaded[&key]);
                 pass.set_bind_group(1, &m.bind_group, &[]);

@@ -11,14 +11,14 @@ impl Renderer {
     /// # Errors
     /// [`RenderError::Readback`] when the GPU cannot map the copy.
     pub async fn read_pixels(&mut self, frame: &FrameInput<'_>) -> Result<Pixels, RenderError> {
-        let (width, height) = (self.config.width, self.config.height);
+        let (width, height) = self.canvas.size();
         let texture = self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("readback target"),
             size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: self.color_format,
+            format: self.canvas.color_format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::COPY_SRC
                 | wgpu::TextureUsages::COPY_DST,
@@ -28,8 +28,10 @@ impl Renderer {
         let _ = self.prepare(frame);
         let (draw, _) = self.encode(frame, &texture, None);
         let mut rgba = read_texture_level(&self.device, &self.queue, &texture, 0, Some(draw)).await?;
-        if matches!(self.color_format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb)
-        {
+        if matches!(
+            self.canvas.color_format,
+            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+        ) {
             for texel in rgba.chunks_exact_mut(4) {
                 texel.swap(0, 2);
             }

@@ -4,7 +4,8 @@
 use wasm_bindgen::JsCast;
 use wgpu::util::DeviceExt;
 
-use super::{LevelGpu, MaterialGpu, RenderError};
+use super::meshes::{LevelGpu, MaterialGpu};
+use super::RenderError;
 use crate::character::{AlphaMode, Character};
 use crate::render::lod_source::LevelData;
 use crate::render::mipmap::mip_level_count;
