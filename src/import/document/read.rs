@@ -7,7 +7,11 @@
 
 use serde_json::{Map, Value};
 
-use super::*;
+use super::{
+    Accessor, AlphaMode, Animation, AnimationSampler, Buffer, BufferView, Channel, ComponentType, Extensions,
+    Image, Interpolation, Material, Mesh, Mode, MorphTarget, Node, Primitive, Property, Root, Scene,
+    Semantic, Skin, Sparse, SparseIndices, SparseValues, Texture, TextureInfo, TextureTransform, Type,
+};
 
 type Object = Map<String, Value>;
 
