@@ -58,7 +58,7 @@ impl Root {
         // A UTF-8 byte order mark is not JSON, but some tools write one.
         let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
         let value: Value = serde_json::from_slice(json).map_err(|e| ImportError::Json(e.to_string()))?;
-        read::root(&value, warnings).map_err(ImportError::Invalid)
+        read::root(value, warnings).map_err(ImportError::Invalid)
     }
 }
 

@@ -35,9 +35,13 @@ struct At<'v> {
     path: String,
 }
 
-pub(super) fn root(value: &Value, warnings: &mut Vec<String>) -> Result<Root, String> {
-    let Value::Object(object) = value else {
-        return Err(format!("the document must be a JSON object, got {}", kind(value)));
+/// Reads the document `value`, whose buffer and image URIs it moves out rather than copies (an
+/// embedded buffer's base64 `data:` URI is most of a `.gltf` file).
+pub(super) fn root(mut value: Value, warnings: &mut Vec<String>) -> Result<Root, String> {
+    let mut buffer_uris = take_uris(&mut value, "buffers");
+    let mut image_uris = take_uris(&mut value, "images");
+    let Value::Object(object) = &value else {
+        return Err(format!("the document must be a JSON object, got {}", kind(&value)));
     };
     let at = At { object, path: String::new() };
     if let Some(version) = asset_version(object) {
@@ -62,20 +66,26 @@ pub(super) fn root(value: &Value, warnings: &mut Vec<String>) -> Result<Root, St
     let root = Root {
         accessors: at.objects("accessors", |a| accessor(&a, &n))?,
         animations: at.objects_indexed("animations", |i, a| animation(&a, i, &n, &mut dropped_channels))?,
-        buffers: at.objects("buffers", |b| {
+        buffers: at.objects_indexed("buffers", |i, b| {
             Ok(Buffer {
                 byte_length: b.required("byteLength", b.uint("byteLength")?)?,
-                uri: b.text("uri")?,
+                uri: buffer_uris
+                    .get_mut(i)
+                    .and_then(Option::take)
+                    .map_or_else(|| b.text("uri"), |uri| Ok(Some(uri)))?,
                 extensions: b.extensions()?,
             })
         })?,
         buffer_views: at.objects("bufferViews", |v| buffer_view(&v, &n))?,
         extensions_used: at.texts("extensionsUsed")?,
         extensions_required: at.texts("extensionsRequired")?,
-        images: at.objects("images", |i| {
+        images: at.objects_indexed("images", |k, i| {
             Ok(Image {
                 buffer_view: i.index("bufferView", n.buffer_views)?,
-                uri: i.text("uri")?,
+                uri: image_uris
+                    .get_mut(k)
+                    .and_then(Option::take)
+                    .map_or_else(|| i.text("uri"), |uri| Ok(Some(uri)))?,
                 mime_type: i.text("mimeType")?,
             })
         })?,
@@ -100,6 +110,17 @@ pub(super) fn root(value: &Value, warnings: &mut Vec<String>) -> Result<Root, St
         ));
     }
     Ok(root)
+}
+
+/// The string `uri` of every object in array `key` of `document`, moved out (`None` where there
+/// is none), index for index; a `uri` that is not a string stays, for its reader to refuse.
+fn take_uris(document: &mut Value, key: &str) -> Vec<Option<String>> {
+    let Some(items) = document.get_mut(key).and_then(Value::as_array_mut) else { return Vec::new() };
+    let take = |item: &mut Value| match item.get_mut("uri") {
+        Some(Value::String(uri)) => Some(std::mem::take(uri)),
+        _ => None,
+    };
+    items.iter_mut().map(take).collect()
 }
 
 /// `asset.version`, when `asset` is an object that has one.
@@ -610,6 +631,7 @@ mod tests {
             "animations[0].channels[0].sampler: index 1 is out of range (there are 1)"
         );
         assert_eq!(invalid(|v| v["meshes"][0] = 3.into()), "meshes[0]: must be an object, got 3");
+        assert_eq!(invalid(|v| v["buffers"][0]["uri"] = 5.into()), "buffers[0].uri: must be a string, got 5");
         assert_eq!(
             invalid(|v| v["accessors"][0]["count"] = 2.5.into()),
             "accessors[0].count: must be a whole number ≥ 0, got 2.5"
@@ -620,6 +642,19 @@ mod tests {
         );
         assert!(matches!(Root::read(b"{\"nodes\": [", &mut Vec::new()), Err(ImportError::Json(_))));
         assert!(matches!(Root::read(b"[]", &mut Vec::new()), Err(ImportError::Invalid(_))));
+    }
+
+    #[test]
+    fn uris_are_read_as_written() {
+        let (root, _) = read(|v| {
+            v["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA".into();
+            v["images"] =
+                serde_json::json!([{"uri": "skin.png"}, {"bufferView": 1, "mimeType": "image/png"}]);
+        })
+        .unwrap();
+        assert_eq!(root.buffers[0].uri.as_deref(), Some("data:application/octet-stream;base64,AAAA"));
+        assert_eq!(root.images[0].uri.as_deref(), Some("skin.png"));
+        assert_eq!((root.images[1].uri.as_deref(), root.images[1].buffer_view), (None, Some(1)));
     }
 
     #[test]
