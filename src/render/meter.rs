@@ -32,6 +32,7 @@
 
 use std::collections::VecDeque;
 
+use super::plan::ViewPlan;
 use super::schedule::Transition;
 
 /// A view's difference from the reference in one frame.
@@ -225,6 +226,50 @@ impl TransitionMeter {
     }
 }
 
+/// Measured frames whose pictures may still come back: readbacks that fail never do, and a
+/// few in flight cover the one or two frames the pictures arrive late.
+pub const IN_FLIGHT: usize = 8;
+
+/// The viewer's side of measuring: what it drew in each measured frame whose pictures are not
+/// back yet, each view's control for the next measured frame, and the pixels per degree of the
+/// last FLIP.
+#[derive(Clone, Debug, Default)]
+pub struct MeterFrames {
+    /// `(frame number, dolly seconds, the transition shown)`, oldest first, at most
+    /// [`IN_FLIGHT`].
+    pending: VecDeque<(u64, f64, Transition)>,
+    /// The plans of the last measured frame: each view's control in the next one (see the module
+    /// docs); `None` until a frame is measured, and after the levels change.
+    pub controls: Option<[ViewPlan; 3]>,
+    /// Pixels per degree of the last FLIP computed (`None` until one was).
+    pub flip_ppd: Option<f32>,
+}
+
+impl MeterFrames {
+    /// Frame `frame` was measured at dolly time `time` showing `transition`, with `plans` (the
+    /// next measured frame's controls).
+    pub fn sent(&mut self, frame: u64, time: f64, transition: Transition, plans: [ViewPlan; 3]) {
+        self.controls = Some(plans);
+        self.pending.push_back((frame, time, transition));
+        while self.pending.len() > IN_FLIGHT {
+            self.pending.pop_front();
+        }
+    }
+
+    /// The dolly time and transition of frame `frame`, whose pictures came back; frames sent
+    /// before it whose pictures never will are forgotten. `None` for a frame not (or no longer)
+    /// in flight.
+    pub fn returned(&mut self, frame: u64) -> Option<(f64, Transition)> {
+        while self.pending.front().is_some_and(|&(f, ..)| f < frame) {
+            self.pending.pop_front();
+        }
+        let &(f, time, transition) = self.pending.front().filter(|p| p.0 == frame)?;
+        self.pending.pop_front();
+        debug_assert_eq!(f, frame);
+        Some((time, transition))
+    }
+}
+
 /// Frame-to-frame change of one view's difference from the reference (see
 /// [`TransitionMeter::changes`]): silhouette as a share of the view (0..1), shading in mean
 /// `|ΔRGB|` (0..765).
@@ -244,6 +289,23 @@ mod tests {
     use super::*;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn frames_in_flight_come_back_in_order_or_not_at_all() {
+        let mut frames = MeterFrames::default();
+        let plans = || std::array::from_fn(|_| ViewPlan { draws: Vec::new(), transition: Transition::at(0) });
+        for f in 0..12u64 {
+            frames.sent(f, f as f64 / 10.0, Transition::at(f as usize), plans());
+        }
+        assert!(frames.controls.is_some());
+        // Only the last IN_FLIGHT are kept: 4..12.
+        assert_eq!(frames.returned(2), None);
+        assert_eq!(frames.returned(5), Some((0.5, Transition::at(5))), "4 never came back");
+        assert_eq!(frames.returned(5), None, "each frame comes back once");
+        assert_eq!(frames.returned(9), Some((0.9, Transition::at(9))));
+        assert_eq!(frames.returned(20), None);
+        assert_eq!(frames.returned(11), None, "everything before 20 was forgotten");
+    }
 
     fn rgba(pixels: &[(u8, u8)]) -> Vec<u8> {
         pixels.iter().flat_map(|&(g, alpha)| [g, g, g, alpha]).collect()

@@ -34,9 +34,8 @@ use crate::render::camera::OrbitCamera;
 use crate::render::crowd::{Crowd, PosePalette};
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
-use crate::render::meter::{frame_difference, FrameDifference, MeterSample, TransitionMeter};
+use crate::render::meter::{frame_difference, FrameDifference, MeterFrames, MeterSample, TransitionMeter};
 use crate::render::overlay::bone_segments;
-use crate::render::plan::ViewPlan;
 use crate::render::replay::ReplayRecorder;
 use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
@@ -106,26 +105,27 @@ struct Inner {
     continuous_uploaded: Option<(usize, usize)>,
     /// The camera, skin, morph weights and bones of the frame `advance` made.
     posed: Posed,
-    /// The live transition meter, and the frames drawn for it whose pictures are not back yet
-    /// (frame number, dolly seconds, the transition shown).
+    /// The live transition meter, and the measured frames whose pictures are not back yet with
+    /// the controls of the next.
     meter: TransitionMeter,
-    meter_pending: std::collections::VecDeque<(u64, f64, Transition)>,
-    /// The plans of the last measured frame: each view's control in the next one (see
-    /// [`crate::render::meter`]); `None` until a frame is measured.
-    meter_controls: Option<[ViewPlan; 3]>,
-    /// Pixels per degree of the meter's last FLIP (`None` until one was computed).
-    flip_ppd: Option<f32>,
+    meter_frames: MeterFrames,
     /// The last transition's film strip (see [`crate::render::replay`]).
     replay: ReplayRecorder,
     frames: u64,
     errors: Vec<String>,
     warnings: Vec<String>,
+    lod_origin: LodOrigin,
+}
+
+/// Where the levels on screen came from, as `state()` reports it.
+struct LodOrigin {
+    /// `"build"` (a worker), `"cache"`, `"inline"` (this thread), or `None` while only the full
+    /// mesh is drawn.
+    from: Option<&'static str>,
+    /// How long building them took (ms), where they were built.
     build_ms: f64,
-    /// Whether the LOD chain came from `options.clod` (a worker) rather than this thread.
-    built_off_main_thread: bool,
-    /// Where the levels came from: `"build"` (a worker), `"cache"`, `"inline"` (this thread), or
-    /// `None` while only the full mesh is drawn.
-    lod_from: Option<&'static str>,
+    /// Whether the chain came from `options.clod` (a worker) rather than this thread.
+    off_main_thread: bool,
 }
 
 /// An `Error` whose `code` says what kind of failure it is, for the page to act on without
@@ -219,11 +219,12 @@ impl Viewer {
             _ if later => 0.0,
             _ => js_sys::Date::now() - started,
         };
-        let lod_from = match (&clod, built_off_main_thread) {
+        let from = match (&clod, built_off_main_thread) {
             (None, _) => None,
             (Some(_), true) => Some("build"),
             (Some(_), false) => Some("inline"),
         };
+        let lod_origin = LodOrigin { from, build_ms, off_main_thread: built_off_main_thread };
         let renderer = Renderer::new(canvas, choice, &character, &lod).await.map_err(|e| {
             if e.is_unavailable() {
                 web_sys::console::warn_1(&format!("clod-viewer: {e}: {}", e.detail()).into());
@@ -253,16 +254,12 @@ impl Viewer {
                 bones: Vec::new(),
             },
             meter: TransitionMeter::default(),
-            meter_pending: Default::default(),
-            meter_controls: None,
-            flip_ppd: None,
+            meter_frames: MeterFrames::default(),
             replay: ReplayRecorder::default(),
             frames: 0,
             errors: Vec::new(),
             warnings,
-            build_ms,
-            built_off_main_thread,
-            lod_from,
+            lod_origin,
         };
         // The viewer answers `state()` from birth: a page that asks while the first frame or the
         // levels hold it gets the state it was created with, never null.
@@ -375,10 +372,8 @@ impl Viewer {
             inner.lod = lod;
             inner.clod = Some(chain);
             inner.continuous_uploaded = None;
-            inner.build_ms = build_ms;
-            inner.built_off_main_thread = from == "build";
-            inner.lod_from = Some(from);
-            inner.meter_controls = None;
+            inner.lod_origin = LodOrigin { from: Some(from), build_ms, off_main_thread: from == "build" };
+            inner.meter_frames.controls = None;
             Ok(JsValue::UNDEFINED)
         })
     }
@@ -602,7 +597,7 @@ impl Inner {
         match (self.model.settings.crowd, &self.model.crowd) {
             // The crowd starts when the levels arrive: one LOD build serves every instance, and
             // hundreds of full meshes meanwhile would only make the first frames slow.
-            (true, None) if self.lod_from.is_none() => {}
+            (true, None) if self.lod_origin.from.is_none() => {}
             (true, None) => {
                 let triangles = self.lod.levels.iter().map(|l| l.triangle_count()).collect();
                 let floor =
@@ -659,24 +654,19 @@ impl Inner {
     fn draw(&mut self) {
         self.collect_meter();
         let tag = self.model.settings.meter.then_some(self.frames);
-        let controls = self.meter_controls.clone().unwrap_or_else(|| self.model.plans.clone());
+        let controls = self.meter_frames.controls.clone().unwrap_or_else(|| self.model.plans.clone());
         let mut input = self.posed.frame_input(&self.model);
         input.meter = tag;
         input.controls = Some([&controls[0], &controls[1], &controls[2]]);
         let measured = self.renderer.render(&input);
         if let Some(tag) = tag.filter(|_| measured) {
-            self.meter_controls = Some(self.model.plans.clone());
             // A crowd's transitions are its instances' (many at once): the meter records its
             // differences and their frame-to-frame changes, not one transition's pop.
             let transition = match &self.model.crowd {
                 Some(_) => Transition::at(0),
                 None => self.model.plans[0].transition,
             };
-            self.meter_pending.push_back((tag, self.model.dolly_time, transition));
-            // Readbacks that failed never come back.
-            while self.meter_pending.len() > 8 {
-                self.meter_pending.pop_front();
-            }
+            self.meter_frames.sent(tag, self.model.dolly_time, transition, self.model.plans.clone());
         }
         self.frames += 1;
     }
@@ -684,13 +674,8 @@ impl Inner {
     /// Turns the meter pictures that have come back into samples of the transition meter.
     fn collect_meter(&mut self) {
         for frame in self.renderer.take_meter_frames() {
-            while self.meter_pending.front().is_some_and(|(tag, ..)| *tag < frame.tag) {
-                self.meter_pending.pop_front();
-            }
-            let Some((tag, time, transition)) = self.meter_pending.pop_front().filter(|p| p.0 == frame.tag)
-            else {
-                continue;
-            };
+            let Some((time, transition)) = self.meter_frames.returned(frame.tag) else { continue };
+            let tag = frame.tag;
             let Some(reference) = frame.pictures.first() else { continue };
             // The mean FLIP error of a pair of pictures (0 for a picture against itself).
             let flip =
@@ -720,7 +705,7 @@ impl Inner {
                 })
                 .collect();
             if frame.flip_ppd.is_some() {
-                self.flip_ppd = frame.flip_ppd;
+                self.meter_frames.flip_ppd = frame.flip_ppd;
             }
             let sample = MeterSample { frame: tag, time, transition, views, steps };
             self.record_replay(&frame, &sample);

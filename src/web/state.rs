@@ -74,7 +74,7 @@ impl Inner {
     /// transition's pop (its largest mean error of a frame against its control) and the same
     /// without the control (the largest frame-to-frame change of the error against the reference).
     fn meter_flip(&self) -> Option<MeterFlip> {
-        let ppd = self.flip_ppd.filter(|_| self.model.settings.flip)?;
+        let ppd = self.meter_frames.flip_ppd.filter(|_| self.model.settings.flip)?;
         let views =
             self.meter.history.back().map_or(Vec::new(), |s| s.views.iter().map(|v| Num(v.flip)).collect());
         let methods = &self.model.settings.methods[..self.model.settings.view_count];
@@ -172,9 +172,9 @@ impl Inner {
                 .collect(),
             switch: state.switch.iter().map(|&d| Num(d)).collect(),
             levels_stop: self.clod.as_ref().and_then(|c| c.stopped_short()).map(|s| s.to_string()),
-            build_ms: Num(self.build_ms as f32),
-            built_off_main_thread: self.built_off_main_thread,
-            lod_from: self.lod_from,
+            build_ms: Num(self.lod_origin.build_ms as f32),
+            built_off_main_thread: self.lod_origin.off_main_thread,
+            lod_from: self.lod_origin.from,
             selected: state.selected,
             distance: Num(state.distance),
             fovy: Num(crate::render::camera::FOVY),
