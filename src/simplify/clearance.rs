@@ -70,6 +70,41 @@ pub(super) struct Clearance<'a> {
     answers: HashMap<u32, (Vec3, Option<Found>)>,
     /// Parts found not to vanish within a limit (part, the limit's bits).
     stranded: HashSet<(u32, u32)>,
+    /// The triangles a search has tested already.
+    tested: Tested,
+}
+
+/// Per input triangle, the search that last tested it: a triangle overlaps several cells of a
+/// grid (about four where cells are the size of a typical triangle), and a search tests it once.
+/// Testing it again could not change the search's answer (its distance is already counted), so
+/// skipping it leaves every answer as it was.
+#[derive(Default)]
+struct Tested {
+    by: Vec<u32>,
+    search: u32,
+}
+
+impl Tested {
+    /// Starts a search over `triangles` triangles: none tested yet.
+    fn start(&mut self, triangles: usize) {
+        if self.by.len() < triangles {
+            self.by.resize(triangles, 0);
+        }
+        self.search = self.search.wrapping_add(1);
+        if self.search == 0 {
+            // Wrapped: stamps of 2³² searches ago would read as this one's.
+            self.by.fill(0);
+            self.search = 1;
+        }
+    }
+
+    /// Whether triangle `t` is not tested yet in this search; it counts as tested from now on.
+    fn first_time(&mut self, t: u32) -> bool {
+        let by = &mut self.by[t as usize];
+        let first = *by != self.search;
+        *by = self.search;
+        first
+    }
 }
 
 /// A search's answer: the squared distance to the nearest triangle found, and its part.
@@ -135,7 +170,14 @@ struct Grid {
 impl<'a> Clearance<'a> {
     /// Holds the input; nothing is computed before the first query.
     pub(super) fn new(positions: &'a [Vec3], indices: &'a [u32]) -> Self {
-        Clearance { positions, indices, index: None, answers: HashMap::new(), stranded: HashSet::new() }
+        Clearance {
+            positions,
+            indices,
+            index: None,
+            answers: HashMap::new(),
+            stranded: HashSet::new(),
+            tested: Tested::default(),
+        }
     }
 
     /// The squared distance from class `class`, at `q`, to the nearest input triangle of a part
@@ -156,7 +198,8 @@ impl<'a> Clearance<'a> {
             }
         }
         let part = index.class_part[class as usize];
-        let answer = index.search(self.indices, (self.positions, &index.grid), q, part, UNBOUNDED);
+        let pose = (self.positions, &index.grid);
+        let answer = index.search(self.indices, pose, &mut self.tested, q, part, UNBOUNDED);
         self.answers.insert(class, (q, answer));
         answer.map(|(squared, _)| squared)
     }
@@ -196,7 +239,7 @@ impl<'a> Clearance<'a> {
             found
         };
         let start = grid.large.iter().fold(f32::INFINITY, |_, &t| test(t));
-        grid.search(q, start, within, &mut test);
+        grid.search(&mut self.tested, q, start, within, &mut test);
     }
 
     /// Whether class `class`'s part, if it vanished, would leave its input points, and those other
@@ -226,7 +269,9 @@ impl<'a> Clearance<'a> {
                 return true;
             }
             let pose = (positions, &index.grid);
-            let Some((squared, _)) = index.search(indices, pose, q, part, (limit, 0.5 * limit)) else {
+            let Some((squared, _)) =
+                index.search(indices, pose, &mut self.tested, q, part, (limit, 0.5 * limit))
+            else {
                 return false;
             };
             if found.len() < MAX_VOUCHERS {
@@ -268,8 +313,8 @@ impl<'a> Clearance<'a> {
             .filter_map(|&vertex| {
                 let q = self.positions[vertex as usize];
                 let near_enough = (limit, 0.25 * limit);
-                let (_, heir) =
-                    index.search(self.indices, (self.positions, &index.grid), q, part, near_enough)?;
+                let pose = (self.positions, &index.grid);
+                let (_, heir) = index.search(self.indices, pose, &mut self.tested, q, part, near_enough)?;
                 Some((heir, vertex))
             })
             .collect();
@@ -300,6 +345,7 @@ impl Index {
         &self,
         indices: &[u32],
         (positions, grid): (&[Vec3], &Grid),
+        tested: &mut Tested,
         q: Vec3,
         part: u32,
         (limit, enough): (f32, f32),
@@ -331,7 +377,7 @@ impl Index {
             }
         };
         let start = grid.large.iter().fold(f32::INFINITY, |_, &t| test(t));
-        grid.search(q, start, limit_squared, &mut test);
+        grid.search(tested, q, start, limit_squared, &mut test);
         (best.1 != part).then_some(best)
     }
 }
@@ -521,9 +567,18 @@ impl Grid {
     /// Calls `test` with the triangles of the cells around `q`, shell after shell, until the
     /// shells searched hold every triangle nearer than the best squared distance so far (which
     /// starts at `best` and is what `test` returns, infinite until one is found) or than
-    /// `within` (squared), or [`MAX_VISITS`] entries have been tested and one was found; returns that
-    /// distance.
-    fn search(&self, q: Vec3, mut best: f32, within: f32, test: &mut dyn FnMut(u32) -> f32) -> f32 {
+    /// `within` (squared), or [`MAX_VISITS`] entries have been looked at and one was found; returns
+    /// that distance. A triangle in several cells is tested in the first (`tested`), and counts
+    /// as an entry in each.
+    fn search(
+        &self,
+        tested: &mut Tested,
+        q: Vec3,
+        mut best: f32,
+        within: f32,
+        test: &mut dyn FnMut(u32) -> f32,
+    ) -> f32 {
+        tested.start(self.part.len());
         let dims = self.dims.as_ivec3();
         // A query outside the grid starts from the nearest cell. After shells 0..s, a triangle
         // not yet seen overlaps no cell of the cube within s − 1 of the start: it lies beyond
@@ -560,7 +615,9 @@ impl Grid {
                     for x in (first..=hi.x).step_by(step).filter(|&x| x >= 0) {
                         let k = (x + dims.x * (y + dims.y * z)) as usize;
                         for &t in &self.entries[self.start[k] as usize..self.start[k + 1] as usize] {
-                            best = test(t);
+                            if tested.first_time(t) {
+                                best = test(t);
+                            }
                             visited += 1;
                             if visited >= MAX_VISITS && best.is_finite() {
                                 return best;

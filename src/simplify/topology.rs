@@ -468,6 +468,14 @@ fn single_fan(link: &mut [(u32, u32)]) -> bool {
 mod tests {
     use super::*;
 
+    #[test]
+    fn other_corners_follow_the_winding() {
+        assert_eq!(other_corners(0), (1, 2));
+        assert_eq!(other_corners(1), (2, 0));
+        assert_eq!(other_corners(2), (0, 1));
+        assert_eq!(other_corners(3 * 1_000_000 + 2), (3_000_000, 3_000_001));
+    }
+
     fn kinds_of(positions: &[Vec3], indices: &[u32], materials: &[u32]) -> Vec<Kind> {
         let classes = position_classes(positions, indices);
         let lists =
