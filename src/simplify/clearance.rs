@@ -164,10 +164,13 @@ impl<'a> Clearance<'a> {
         let within = radius * radius;
         let mut found = f32::INFINITY;
         let mut test = |t: u32| {
+            let other = grid.part[t as usize];
+            if other == part || index.vanished[other as usize] {
+                return found;
+            }
             let (centre, sphere) = grid.sphere[t as usize];
             let beyond = (centre.distance(q) - sphere).max(0.0);
-            let other = grid.part[t as usize];
-            if other != part && !index.vanished[other as usize] && beyond * beyond <= found.min(within) {
+            if beyond * beyond <= found.min(within) {
                 found = visit(t);
             }
             found
@@ -292,14 +295,17 @@ impl Index {
         let mut best = (limit_squared, part);
         let mut test = |t: u32| {
             let t = t as usize;
-            let (centre, radius) = grid.sphere[t];
-            let beyond = (centre.distance(q) - radius).max(0.0);
+            // The part first: most triangles near a point are of its own part.
             let other = grid.part[t];
-            if other != part && beyond * beyond < best.0 && !self.vanished[other as usize] {
-                let [a, b, c] = [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
-                let squared = closest_point_on_triangle(q, a, b, c).distance_squared(q);
-                if squared < best.0 {
-                    best = (squared, other);
+            if other != part && !self.vanished[other as usize] {
+                let (centre, radius) = grid.sphere[t];
+                let beyond = (centre.distance(q) - radius).max(0.0);
+                if beyond * beyond < best.0 {
+                    let [a, b, c] = [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
+                    let squared = closest_point_on_triangle(q, a, b, c).distance_squared(q);
+                    if squared < best.0 {
+                        best = (squared, other);
+                    }
                 }
             }
             if best.1 == part {
