@@ -87,22 +87,24 @@ impl Grid {
         let count = indices.len() / 3;
         let kept: Vec<usize> = (0..count).filter(|&t| keep(t)).collect();
         let corners = |t: usize| [0, 1, 2].map(|k| positions[indices[3 * t + k] as usize]);
-        let (min, max) = kept
+        // Each kept triangle's bounding box, read once: the grid's box, its cell size and the
+        // cells each triangle overlaps all come from them.
+        let boxes: Vec<(Vec3, Vec3)> = kept
             .iter()
-            .flat_map(|&t| corners(t))
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
+            .map(|&t| {
+                let [a, b, c] = corners(t);
+                (a.min(b).min(c), a.max(b).max(c))
+            })
+            .collect();
+        let (min, max) = boxes
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &(a, b)| (lo.min(a), hi.max(b)));
         let size = (max - min).max(Vec3::ZERO);
         // Cells the size of a typical triangle (the median of their boxes' longest sides), so a
         // triangle overlaps a few cells and a cell holds a few triangles where the surface is;
         // no more than CELLS_PER_TRIANGLE cells per triangle over the box (a surface fills
         // little of its box), nor MAX_CELLS_PER_AXIS a side.
-        let mut sides: Vec<f32> = kept
-            .iter()
-            .map(|&t| {
-                let [a, b, c] = corners(t);
-                (a.max(b).max(c) - a.min(b).min(c)).max_element()
-            })
-            .collect();
+        let mut sides: Vec<f32> = boxes.iter().map(|&(lo, hi)| (hi - lo).max_element()).collect();
         let median = if sides.is_empty() {
             0.0
         } else {
@@ -115,10 +117,7 @@ impl Grid {
         let cell = if cell.is_finite() && cell > 0.0 { cell } else { 1.0 };
         let dims = ((size / cell).as_uvec3() + 1).min(UVec3::splat(MAX_CELLS_PER_AXIS));
         let cell_of = |p: Vec3| ((p - min) / cell).max(Vec3::ZERO).as_uvec3().min(dims - 1);
-        let range = |t: usize| {
-            let [a, b, c] = corners(t);
-            (cell_of(a.min(b).min(c)), cell_of(a.max(b).max(c)))
-        };
+        let ranges: Vec<(UVec3, UVec3)> = boxes.iter().map(|&(lo, hi)| (cell_of(lo), cell_of(hi))).collect();
         let spans = |(lo, hi): (UVec3, UVec3)| {
             let n = hi - lo + 1;
             n.x * n.y * n.z
@@ -131,8 +130,7 @@ impl Grid {
         for pass in 0..2 {
             let mut fill = if pass == 1 { start.clone() } else { Vec::new() };
             let mut entries = if pass == 1 { vec![0u32; start[cells] as usize] } else { Vec::new() };
-            for &t in &kept {
-                let (lo, hi) = range(t);
+            for (&t, &(lo, hi)) in kept.iter().zip(&ranges) {
                 if spans((lo, hi)) > MAX_CELLS_PER_TRIANGLE {
                     if pass == 0 {
                         large.push(t as u32);
