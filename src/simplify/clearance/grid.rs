@@ -236,3 +236,41 @@ impl Grid {
         best
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn a_search_tests_each_triangle_once_however_many_cells_it_lies_in() {
+        // A row of unit triangles, and one as long as four of them, which lies in several cells.
+        let mut positions = Vec::new();
+        let mut indices = Vec::new();
+        for k in 0..8 {
+            let x = k as f32;
+            let base = positions.len() as u32;
+            positions.extend([Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 0.0, 0.0), Vec3::new(x, 1.0, 0.0)]);
+            indices.extend([base, base + 1, base + 2]);
+        }
+        let base = positions.len() as u32;
+        positions.extend([Vec3::new(2.0, 2.0, 0.0), Vec3::new(6.0, 2.0, 0.0), Vec3::new(2.0, 3.0, 0.0)]);
+        indices.extend([base, base + 1, base + 2]);
+        let grid = Grid::new(&positions, &indices, |_| 0, |_| true);
+        let long = base / 3;
+        let cells_of_long = grid.entries.iter().filter(|&&t| t == long).count();
+        assert!(cells_of_long > 1, "the long triangle lies in {cells_of_long} cells");
+
+        let mut tested = Tested::default();
+        for _ in 0..2 {
+            // Every triangle is within reach of the query: the search goes over every cell.
+            let mut count = vec![0; indices.len() / 3];
+            grid.search(&mut tested, Vec3::new(4.0, 1.0, 0.0), f32::INFINITY, 100.0, &mut |t| {
+                count[t as usize] += 1;
+                f32::INFINITY
+            });
+            assert_eq!(count, vec![1; indices.len() / 3], "each once, in a second search too");
+        }
+    }
+}
