@@ -137,9 +137,9 @@ impl Grid {
                     }
                     continue;
                 }
-                for z in lo.z..hi.z + 1 {
-                    for y in lo.y..hi.y + 1 {
-                        for x in lo.x..hi.x + 1 {
+                for z in lo.z..=hi.z {
+                    for y in lo.y..=hi.y {
+                        for x in lo.x..=hi.x {
                             let k = index(UVec3::new(x, y, z));
                             if pass == 0 {
                                 start[k + 1] += 1;
