@@ -1,10 +1,10 @@
 // (15) The first impression: the default page, untouched (not the tests' ?test=1 mode), opens on
 // the demonstration preset and shows a reader a transition within 20 s of navigation, in every
 // view at once, with popping's silhouette pop ≥ 0.25 % of the view's pixels (the live meter's
-// number, against its control); it says what is exaggerated, and (checked on WebGPU) one control
-// switches to the realistic settings and back, kept in the URL across a reload. WebGPU and WebGL2,
-// a 1240 × 900 window. On WebGPU the second transition is photographed for the README
-// (screenshot.mjs: it fails if a view is blank).
+// number, against its control) and the largest FLIP pop; it says what is exaggerated, and (checked
+// on WebGPU) one control switches to the realistic settings and back, kept in the URL across a
+// reload. WebGPU and WebGL2, a 1240 × 900 window. On WebGPU the second transition is photographed
+// for the README (screenshot.mjs: it fails if a view is blank).
 // (13) On the same page, watched from the moment it is ready for 40 s: a comparison a reader can
 // trust at first sight makes the same change at the same moment in every view, never freezes and
 // throws nothing (a page of its own per check took 40 s more per backend); in the tests' mode,
@@ -105,6 +105,13 @@ for (const backend of ['webgpu', 'webgl2']) {
     const flip = meter.flip ? `; FLIP at ${meter.flip.ppd.toFixed(1)} ppd: pops ${JSON.stringify(meter.flip.pop)}, without the control ${JSON.stringify(meter.flip.uncontrolled)}, views against full detail ${meter.flip.views.map((v) => v.toFixed(4)).join(' ')}` : '; no FLIP';
     console.log(`${backend}: first transition's pops: popping ${m(meter.popping)}; alpha ${m(meter.alpha)}; geomorph ${m(meter.geomorph)}${flip}`);
     assert.ok(meter.popping.silhouette >= 0.25, `popping's silhouette pop ${meter.popping.silhouette} % ≥ 0.25 %`);
+    // FLIP is on by default, and the meter measures each transition with it too: a number per
+    // method and per view, popping's the largest pop.
+    assert.ok(meter.flipOn && meter.flip, `the meter's FLIP: ${JSON.stringify([meter.flipOn, meter.flip])}`);
+    assert.ok(meter.flip.ppd > 0 && meter.flip.views.length === 3 && meter.flip.views.every((v) => v >= 0 && v <= 1), JSON.stringify(meter.flip));
+    for (const other of ['alpha', 'geomorph']) {
+      assert.ok(meter.flip.pop.popping > meter.flip.pop[other], `FLIP pops: popping ${meter.flip.pop.popping} > ${other} ${meter.flip.pop[other]}`);
+    }
     // The page says what is exaggerated, next to the realistic values.
     const note = await page.locator('#preset-text').textContent();
     assert.match(note, /Exaggerated for demonstration: a 2\.4 px threshold \(2\.4 px per 400 px of view height\) \(realistic: a 0\.5 px threshold\), magnified ×2 \(realistic: real size\)/);
