@@ -372,7 +372,9 @@ export class ClodViewerElement extends HTMLElement {
   flipImages(reference: Uint8Array, test: Uint8Array, width: number, height: number, ppd?: number): Promise<FlipResult | null>;
   /** A PNG of the current frame with the views' labels. */
   screenshot(): Promise<Blob>;
-  /** Shows another model; on failure the previous one keeps playing. */
+  /** Shows another model, keeping the comparison settings (thresholds, transitions, methods,
+   * distance, magnifier, overlay, meter, FLIP, crowd; not the clip or the orbit); on failure the
+   * previous one keeps playing. */
   load(source: ModelSource): Promise<ViewerState>;
   addEventListener<K extends keyof ClodViewerEventMap>(
     type: K,

@@ -478,6 +478,9 @@ export class ClodViewerElement extends HTMLElement {
       try { viewer.applyAttribute(name, this.getAttribute(name)); } catch (e) { ignored.push(e.message ?? String(e)); }
     }
     this.#ignored = ignored;
+    // Another model in the same viewer keeps what the reader chose for the comparison (the
+    // viewer of another backend is another wasm module's object: it starts from the attributes).
+    if (this.#viewer && this.#backend === backend) viewer.keepSettingsOf(this.#viewer);
     this.#viewer?.free();
     this.#viewer = viewer;
     this.#meterSeen = 0;

@@ -300,6 +300,20 @@ impl Viewer {
         Ok(())
     }
 
+    /// Takes the comparison settings of `previous`, the viewer this one replaces on another model:
+    /// thresholds, transitions, methods, distance, magnifier, overlay, meter, FLIP, crowd
+    /// ([`crate::render::viewer::settings::Settings::keep_from`] lists them). Returns `false`, and
+    /// keeps its own, while a measurement holds `previous`.
+    #[wasm_bindgen(js_name = keepSettingsOf)]
+    pub fn keep_settings_of(&self, previous: &Viewer) -> bool {
+        let Some(settings) = previous.lock().map(|p| p.model.settings.clone()) else { return false };
+        match self.lock() {
+            Some(mut inner) => inner.model.keep_settings_from(&settings),
+            None => return false,
+        }
+        true
+    }
+
     /// Applies the `<clod-viewer>` attribute `name` with `value` (`null` or `undefined`: the
     /// attribute is absent) as [`crate::js_api::attributes::attribute_update`] reads it.
     ///

@@ -155,6 +155,13 @@ impl ViewerModel {
         self.layout = layout(width, height, self.settings.view_count);
     }
 
+    /// Takes the comparison settings of the viewer this one replaces ([`Settings::keep_from`]).
+    pub fn keep_settings_from(&mut self, previous: &Settings) {
+        self.settings.keep_from(previous);
+        let (w, h) = self.canvas;
+        self.resize(w, h);
+    }
+
     /// Applies a `setState` update. Continuous counts must be progressive-mesh states' (the web
     /// layer snaps them with the cursor).
     pub fn apply(&mut self, update: &Update) {

@@ -126,6 +126,69 @@ impl Settings {
         }
     }
 
+    /// Takes `previous`'s comparison settings: what a reader chose for one model and expects to
+    /// keep when they open another in the same viewer. The thresholds and transitions, the views'
+    /// methods and variant, the camera distance's mode (distances are in framing distances, so they
+    /// mean the same on any model), the magnifier, overlay, meter, FLIP, crowd and morphs carry
+    /// over. What belongs to the model shown stays as the new viewer set it: the clip and whether
+    /// it plays, and the orbit (yaw, pitch and pan: a new model is framed from the front again).
+    pub fn keep_from(&mut self, previous: &Settings) {
+        let Settings {
+            paused: _,
+            speed,
+            clip: _,
+            distance_mode,
+            manual_distance,
+            dolly_period,
+            yaw_degrees: _,
+            pitch_degrees: _,
+            pan: _,
+            tolerance_px,
+            tolerance_height,
+            hysteresis,
+            by_distance,
+            duration,
+            zone,
+            transition_speed,
+            magnify,
+            meter,
+            flip,
+            variant,
+            methods,
+            view_count,
+            overlay,
+            crowd,
+            crowd_count,
+            crowd_lod,
+            morphs,
+        } = previous.clone();
+        *self = Settings {
+            speed,
+            distance_mode,
+            manual_distance,
+            dolly_period,
+            tolerance_px,
+            tolerance_height,
+            hysteresis,
+            by_distance,
+            duration,
+            zone,
+            transition_speed,
+            magnify,
+            meter,
+            flip,
+            variant,
+            methods,
+            view_count,
+            overlay,
+            crowd,
+            crowd_count,
+            crowd_lod,
+            morphs,
+            ..self.clone()
+        };
+    }
+
     /// How the schedule drives transitions.
     pub fn transition_mode(&self) -> TransitionMode {
         if self.by_distance {

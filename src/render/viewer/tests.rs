@@ -220,3 +220,42 @@ fn the_demonstrations_switches_do_not_depend_on_the_window() {
     let realistic = Update::default();
     assert!(switches(2700, 900, &realistic)[4] > 2.9 * switches(900, 300, &realistic)[4]);
 }
+
+#[test]
+fn a_new_model_keeps_the_comparison_settings_and_its_own_clip_and_framing() {
+    let mut previous = model();
+    previous.apply(&Update {
+        preset: Some(super::preset::Preset::Demonstration),
+        meter: Some(false),
+        flip: Some(false),
+        methods: Some(([Method::Geomorph, Method::Popping, Method::Popping], 2)),
+        speed: Some(0.5),
+        by_distance: Some(true),
+        clip: Some(None),
+        paused: Some(true),
+        yaw: Some(90.0),
+        ..Default::default()
+    });
+    let mut next = ViewerModel::new((Vec3::ONE, 2.0), vec![0.0, 0.1], 900, 300);
+    next.apply(&Update { clip: Some(Some(1)), ..Default::default() });
+    next.keep_settings_from(&previous.settings);
+    let (kept, own) = (&next.settings, Settings::default());
+    assert_eq!((kept.meter, kept.flip, kept.speed, kept.by_distance), (false, false, 0.5, true));
+    assert_eq!((kept.methods, kept.view_count), (previous.settings.methods, 2));
+    // The demonstration's threshold still scales with the view, so the preset still shows.
+    assert_eq!(
+        (kept.tolerance_px, kept.tolerance_height),
+        (previous.settings.tolerance_px, previous.settings.tolerance_height)
+    );
+    assert_eq!(
+        (kept.magnify, kept.transition_speed),
+        (previous.settings.magnify, previous.settings.transition_speed)
+    );
+    // The model's own: its clip, playing, framed from the default side.
+    assert_eq!((kept.clip, kept.paused, kept.yaw_degrees), (Some(1), own.paused, own.yaw_degrees));
+    assert_eq!(next.layout, layout(900, 300, 2), "laid out for the views kept");
+    // Everything else is the previous viewer's: keeping twice changes nothing more.
+    let once = next.settings.clone();
+    next.keep_settings_from(&previous.settings);
+    assert_eq!(next.settings, once);
+}
