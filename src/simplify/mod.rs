@@ -85,9 +85,14 @@ pub enum Schedule {
     /// Batched passes (meshoptimizer's scheme): each pass commits the candidates up to 1.5× its
     /// k-th cheapest cost, in cost order, with the ends of every collapse locked until the pass
     /// ends, then re-prices the changed edges in bulk. Collapse costs are not monotone (their
-    /// running maximum is). Measured against `Strict`: the native build 10–25 % faster on the
-    /// built-in character, but animated error 15 % higher on CesiumMan and the character's 1 %
-    /// level 12 % worse in the bind pose, so it is not the default.
+    /// running maximum is). Not the default: since `Strict` prices an edge only when a lower
+    /// bound of its cost comes up, passes are no faster (the whole build 0.84–1.25× `Strict`'s
+    /// time by model, `bench/README.md`), and their animated error is higher. Committing each
+    /// pass in class (memory) order rather than cost order made the built-in character's
+    /// simplification 1.3× faster natively (205 → 155 ms, `clod_timing`, best of five
+    /// interleaved runs) but lost a level each on CesiumMan, robot.glb and parts.glb against
+    /// meshoptimizer (`bench/animated-vs-meshoptimizer.mjs --short`); with the goal at 1.2× the
+    /// k-th cost it was no faster than `Strict` (2026-11-29).
     Passes,
 }
 
