@@ -357,7 +357,10 @@ export class ClodViewerElement extends HTMLElement {
       this.#fail(error);
       throw error;
     });
-    if (this.#visible) showGpu();
+    // The GPU part waits until the element is seen, unless a model is already on the GPU: the
+    // next one a reader opens (say, scrolled down to the page's controls) is then ready when they
+    // look, its levels built meanwhile.
+    if (this.#visible || this.#viewer) showGpu();
     if (!replace) done.catch(() => {});
     return done;
   }
