@@ -197,6 +197,8 @@ export interface ViewerState {
   transition: 'time' | 'distance';
   duration: number;
   zone: number;
+  /** The alpha-blending view's variant. */
+  variant: 'opaque-first' | 'naive' | 'dither';
   transitionSpeed: number;
   magnify: number;
   meter: MeterState;
@@ -357,6 +359,8 @@ export class ClodViewerElement extends HTMLElement {
   replay(): Replay | null;
   /** The replay drawn as one PNG (see `drawReplay`), or null before a transition. */
   replayPng(): Promise<Blob | null>;
+  /** Rejects with `superseded: true` (as `readPixels`, `screenshot`, `textureLevels`,
+   * `flipImages` and `finish` do) when another model replaces the one shown before it finishes. */
   measurePopSpike(options?: PopSpikeOptions): Promise<PopSpike>;
   /** Draws one frame at `nowMs` (with `manual-frames`) and returns the state. */
   renderFrame(nowMs: number): ViewerState;
@@ -372,9 +376,10 @@ export class ClodViewerElement extends HTMLElement {
   flipImages(reference: Uint8Array, test: Uint8Array, width: number, height: number, ppd?: number): Promise<FlipResult | null>;
   /** A PNG of the current frame with the views' labels. */
   screenshot(): Promise<Blob>;
-  /** Shows another model, keeping the comparison settings (thresholds, transitions, methods,
-   * distance, magnifier, overlay, meter, FLIP, crowd; not the clip or the orbit); on failure the
-   * previous one keeps playing. */
+  /** Shows another model, keeping the comparison settings (threshold, hysteresis, transitions,
+   * methods, variant, speed, distance and dolly period, magnifier, overlay, meter, FLIP, crowd,
+   * morphs; not the clip, whether it plays, or the orbit); on failure the previous one keeps
+   * playing. */
   load(source: ModelSource): Promise<ViewerState>;
   addEventListener<K extends keyof ClodViewerEventMap>(
     type: K,

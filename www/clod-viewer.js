@@ -125,6 +125,7 @@ export class ClodViewerElement extends HTMLElement {
   #ignored = [];
   #errorsSeen = 0; // renderer errors of the current viewer already reported
   #broken = false; // the current viewer threw while drawing: no more frames until another loads
+  #cancels = new Set(); // rejections of the calls waiting on the current viewer (#whileShown)
 
   connectedCallback() {
     if (!this.#canvas) this.#buildDom();
@@ -191,16 +192,16 @@ export class ClodViewerElement extends HTMLElement {
   /** Draws one frame at `nowMs` (for `manual-frames`) and returns the state. */
   renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
   /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */
-  readPixels() { return this.#requireViewer().readPixels(); }
+  readPixels() { return this.#whileShown(this.#requireViewer().readPixels()); }
   /** Mip levels of material `i`'s texture read back: `[{ width, height, mean }]` (linear light). */
-  textureLevels(i) { return this.#requireViewer().textureLevels(i); }
+  textureLevels(i) { return this.#whileShown(this.#requireViewer().textureLevels(i)); }
   /** Resolves when the GPU has finished the submitted frames. */
-  finish() { return this.#requireViewer().finish(); }
+  finish() { return this.#whileShown(this.#requireViewer().finish()); }
   /**
    * LDR-FLIP of two RGBA8 sRGB pictures on the viewer's GPU (flip.wgsl): resolves to
    * `{ mean, p99, max, ppd }`, or null where the GPU cannot render into float targets.
    */
-  flipImages(reference, test, width, height, ppd = 67.02) { return this.#requireViewer().flipImages(reference, test, width, height, ppd); }
+  flipImages(reference, test, width, height, ppd = 67.02) { return this.#whileShown(this.#requireViewer().flipImages(reference, test, width, height, ppd)); }
   /**
    * The live meter's last completed transition per method: `{ popping, alpha, geomorph }`, each
    * `{ silhouette, shading, transitions }` (silhouette: the largest frame-to-frame change, in % of
@@ -227,7 +228,7 @@ export class ClodViewerElement extends HTMLElement {
     return new Promise((resolve, reject) => canvas.toBlob((b) => (b ? resolve(b) : reject(new Error('PNG encoding failed'))), 'image/png'));
   }
   /** Measures each view's largest frame-to-frame change through one LOD switch. */
-  measurePopSpike(options = {}) { return this.#requireViewer().measurePopSpike(options); }
+  measurePopSpike(options = {}) { return this.#whileShown(this.#requireViewer().measurePopSpike(options)); }
 
   /** A PNG of the current frame with the views' labels. */
   async screenshot() {
@@ -481,9 +482,12 @@ export class ClodViewerElement extends HTMLElement {
       try { viewer.applyAttribute(name, this.getAttribute(name)); } catch (e) { ignored.push(e.message ?? String(e)); }
     }
     this.#ignored = ignored;
-    // Another model in the same viewer keeps what the reader chose for the comparison (the
-    // viewer of another backend is another wasm module's object: it starts from the attributes).
-    if (this.#viewer && this.#backend === backend) viewer.keepSettingsOf(this.#viewer);
+    // Another model in the same viewer keeps what the reader chose for the comparison. It starts
+    // from the attributes instead after a frame threw (what was set may be why) and on another
+    // backend (the old viewer is another wasm module's object).
+    if (this.#viewer && this.#backend === backend && !this.#broken) viewer.keepSettingsOf(this.#viewer);
+    for (const cancel of this.#cancels) cancel();
+    this.#cancels.clear();
     this.#viewer?.free();
     this.#viewer = viewer;
     this.#meterSeen = 0;
@@ -506,6 +510,17 @@ export class ClodViewerElement extends HTMLElement {
     this.#alert.textContent = e.message;
     this.#alert.hidden = false;
     this.#emit('error', { code: e.code, message: e.message });
+  }
+
+  // A call on the current viewer that a model change ends: it rejects, with `superseded: true`,
+  // when another model replaces this one (the old viewer is freed, and on WebGL2 its readbacks
+  // would never complete: the page's Measure button waited for ever).
+  #whileShown(promise) {
+    return new Promise((resolve, reject) => {
+      const cancel = () => reject(Object.assign(new Error('another model replaced the one this call was reading'), { superseded: true }));
+      this.#cancels.add(cancel);
+      promise.then(resolve, reject).finally(() => this.#cancels.delete(cancel));
+    });
   }
 
   #requireViewer() {

@@ -170,6 +170,7 @@ function setupControls(state, first) {
   $('measure').disabled = false;
   if (!first) { $('continuous-on').checked = false; $('continuous').disabled = true; $('continuous-out').textContent = ''; }
   syncControls(state);
+  syncSettingControls(state);
 }
 
 // Puts the controls where the viewer's state says (after a load, the URL or a camera gesture).
@@ -182,6 +183,19 @@ function syncControls(state) {
   $('distance-out').textContent = `${state.distance.toFixed(1)}×`;
   $('crowd-on').checked = state.mode === 'crowd';
   if (state.crowd) $('crowd-count').value = String(state.crowd.instances);
+}
+
+// After a load: the settings the new model kept (or, after a failure, started afresh), as they are.
+function syncSettingControls(state) {
+  $('speed').value = String(state.speed);
+  $('speed-out').textContent = `${state.speed.toFixed(2)}×`;
+  $('transition').value = state.transition;
+  $('duration').value = String(state.duration);
+  $('duration-out').textContent = `${Number(state.duration.toFixed(2))} s`;
+  $('zone').value = String(state.zone);
+  $('variant').value = state.variant;
+  $('meter-on').checked = state.meter.on;
+  $('flip-on').checked = state.meter.flipOn;
 }
 
 // Log-scale sliders: 0..1 maps to lo..hi geometrically.
@@ -391,7 +405,7 @@ async function measureSpike() {
   try {
     spike = await viewer.measurePopSpike();
   } catch (e) {
-    status.textContent = `Pop spike: ${e.message ?? e}`;
+    if (!e.superseded) status.textContent = `Pop spike: ${e.message ?? e}`; // else another model is shown
   } finally {
     measuring = false;
     $('measure').disabled = false;

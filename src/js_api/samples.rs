@@ -93,6 +93,7 @@ fn state(full: bool) -> ViewerState {
         transition: OneOf(TransitionBy::Time),
         duration: Num(0.5),
         zone: Num(0.2),
+        variant: OneOf(BlendVariant::OpaqueFirst),
         transition_speed: Num(1.0),
         magnify: Num(1.0),
         meter: MeterState {

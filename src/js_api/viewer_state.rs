@@ -88,6 +88,8 @@ pub struct ViewerState {
     pub transition: OneOf<TransitionBy>,
     pub duration: Num,
     pub zone: Num,
+    /// The alpha-blending view's variant.
+    pub variant: OneOf<BlendVariant>,
     pub transition_speed: Num,
     pub magnify: Num,
     pub meter: MeterState,

@@ -39,7 +39,7 @@ use crate::render::overlay::bone_segments;
 use crate::render::replay::ReplayRecorder;
 use crate::render::schedule::Transition;
 use crate::render::uniforms::CameraRaw;
-use crate::render::viewer::settings::Update;
+use crate::render::viewer::settings::{Settings, Update};
 use crate::render::viewer::{animated_bounds, animated_sphere, ViewerModel};
 
 /// The warning when the morph deltas do not fit the GPU's largest texture.
@@ -54,13 +54,15 @@ pub struct Viewer {
     queue: Rc<RefCell<Queue>>,
 }
 
-/// Calls that found the viewer busy, applied at the next frame, and the last state read (the
-/// state the viewer was created with until a state is read).
+/// Calls that found the viewer busy, applied at the next frame, the last state read (the
+/// state the viewer was created with until a state is read), and the settings as of the last
+/// update applied (what a viewer replacing this one keeps, even while this one is busy).
 struct Queue {
     updates: Vec<Update>,
     size: Option<(u32, u32)>,
     clips: Vec<String>,
     last_state: ViewerState,
+    settings: Settings,
 }
 
 /// What one frame draws besides the model's plans: the camera and the pose's skin matrices,
@@ -263,7 +265,13 @@ impl Viewer {
         };
         // The viewer answers `state()` from birth: a page that asks while the first frame or the
         // levels hold it gets the state it was created with, never null.
-        let queue = Queue { updates: Vec::new(), size: None, clips, last_state: inner.state() };
+        let queue = Queue {
+            updates: Vec::new(),
+            size: None,
+            clips,
+            last_state: inner.state(),
+            settings: inner.model.settings.clone(),
+        };
         Ok(Viewer { inner: Rc::new(RefCell::new(inner)), queue: Rc::new(RefCell::new(queue)) })
     }
 
@@ -302,16 +310,23 @@ impl Viewer {
 
     /// Takes the comparison settings of `previous`, the viewer this one replaces on another model:
     /// thresholds, transitions, methods, distance, magnifier, overlay, meter, FLIP, crowd
-    /// ([`crate::render::viewer::settings::Settings::keep_from`] lists them). Returns `false`, and
-    /// keeps its own, while a measurement holds `previous`.
+    /// ([`Settings::keep_from`] lists them), with the changes queued while a measurement holds
+    /// `previous`. Before this viewer's first frame: it starts at rest at the level they select.
     #[wasm_bindgen(js_name = keepSettingsOf)]
-    pub fn keep_settings_of(&self, previous: &Viewer) -> bool {
-        let Some(settings) = previous.lock().map(|p| p.model.settings.clone()) else { return false };
-        match self.lock() {
-            Some(mut inner) => inner.model.keep_settings_from(&settings),
-            None => return false,
+    pub fn keep_settings_of(&self, previous: &Viewer) {
+        let settings = {
+            let queue = previous.queue.borrow();
+            let mut settings = queue.settings.clone();
+            for update in &queue.updates {
+                update.apply(&mut settings);
+            }
+            settings
+        };
+        // A new viewer is not busy: nothing has been asked of it yet.
+        if let Some(mut inner) = self.lock() {
+            inner.model.keep_settings_from(&settings);
+            self.queue.borrow_mut().settings.clone_from(&inner.model.settings);
         }
-        true
     }
 
     /// Applies the `<clod-viewer>` attribute `name` with `value` (`null` or `undefined`: the
@@ -513,7 +528,10 @@ impl Viewer {
     /// Applies `update` now, or at the next frame while a measurement or readback holds the viewer.
     fn push(&self, update: Update) {
         match self.inner.try_borrow_mut() {
-            Ok(mut inner) => inner.apply(update),
+            Ok(mut inner) => {
+                inner.apply(update);
+                self.queue.borrow_mut().settings.clone_from(&inner.model.settings);
+            }
             Err(_) => self.queue.borrow_mut().updates.push(update),
         }
     }
@@ -528,6 +546,7 @@ impl Viewer {
         for update in queue.updates.drain(..) {
             inner.apply(update);
         }
+        queue.settings.clone_from(&inner.model.settings);
         Some(inner)
     }
 }

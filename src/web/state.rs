@@ -189,6 +189,7 @@ impl Inner {
             transition: OneOf(if s.by_distance { TransitionBy::Distance } else { TransitionBy::Time }),
             duration: Num(s.duration),
             zone: Num(s.zone),
+            variant: OneOf(s.variant),
             transition_speed: Num(s.transition_speed),
             magnify: Num(s.magnify),
             meter: self.meter_state(),

@@ -284,7 +284,7 @@ test('every control has a label and the camera answers the keyboard', async () =
 });
 
 
-test('the live page never measures on its own; the button measures the pop spike while inputs keep working', async (t) => {
+test('the live page never measures on its own; the button measures the pop spike while inputs keep working, and a model opened meanwhile ends it', async (t) => {
   const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
   t.after(() => page.close());
   const errors = [];
@@ -318,6 +318,15 @@ test('the live page never measures on its own; the button measures the pop spike
   assert.match(text, /LOD build[0-9,]+ ms \(worker\)/);
   await page.waitForTimeout(500);
   assert.equal(await page.evaluate(() => document.getElementById('viewer').state().speed), 0.5, 'the speed set during the measurement applied');
+  // A model opened during a measurement ends it (the button comes back) and keeps the settings
+  // changed meanwhile.
+  await page.locator('#measure').click();
+  await page.evaluate(() => document.getElementById('flip-on').click());
+  await page.setInputFiles('#file', { name: 'robot.glb', mimeType: 'model/gltf-binary', buffer: readFileSync(new URL('../../assets/robot.glb', import.meta.url)) });
+  await page.waitForFunction(() => document.getElementById('viewer').state().triangles === 2628 && !document.getElementById('measure').disabled, null, { timeout: 120_000 });
+  const after = await page.evaluate(() => document.getElementById('viewer').state());
+  assert.deepEqual([after.speed, after.meter.flipOn, after.preset.name], [0.5, false, 'realistic']);
+  assert.doesNotMatch(await page.locator('#status').textContent(), /Pop spike/, 'no error for the measurement the new model ended');
   assert.deepEqual(errors, []);
 });
 

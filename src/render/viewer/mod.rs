@@ -155,11 +155,15 @@ impl ViewerModel {
         self.layout = layout(width, height, self.settings.view_count);
     }
 
-    /// Takes the comparison settings of the viewer this one replaces ([`Settings::keep_from`]).
+    /// Takes the comparison settings of the viewer this one replaces ([`Settings::keep_from`]),
+    /// before the first frame: the view starts at rest at the level they select, as [`Self::new`]
+    /// starts it, not with a transition from the level the defaults selected.
     pub fn keep_settings_from(&mut self, previous: &Settings) {
         self.settings.keep_from(previous);
         let (w, h) = self.canvas;
         self.resize(w, h);
+        self.advance(0.0);
+        self.settle();
     }
 
     /// Applies a `setState` update. Continuous counts must be progressive-mesh states' (the web

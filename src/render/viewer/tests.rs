@@ -254,6 +254,8 @@ fn a_new_model_keeps_the_comparison_settings_and_its_own_clip_and_framing() {
     // The model's own: its clip, playing, framed from the default side.
     assert_eq!((kept.clip, kept.paused, kept.yaw_degrees), (Some(1), own.paused, own.yaw_degrees));
     assert_eq!(next.layout, layout(900, 300, 2), "laid out for the views kept");
+    // Before the first frame: at rest at the level the kept settings select, no transition.
+    assert_eq!(next.schedule.transition, Transition::at(next.schedule.selected));
     // Everything else is the previous viewer's: keeping twice changes nothing more.
     let once = next.settings.clone();
     next.keep_settings_from(&previous.settings);
