@@ -133,59 +133,14 @@ impl Settings {
     /// over. What belongs to the model shown stays as the new viewer set it: the clip and whether
     /// it plays, and the orbit (yaw, pitch and pan: a new model is framed from the front again).
     pub fn keep_from(&mut self, previous: &Settings) {
-        let Settings {
-            paused: _,
-            speed,
-            clip: _,
-            distance_mode,
-            manual_distance,
-            dolly_period,
-            yaw_degrees: _,
-            pitch_degrees: _,
-            pan: _,
-            tolerance_px,
-            tolerance_height,
-            hysteresis,
-            by_distance,
-            duration,
-            zone,
-            transition_speed,
-            magnify,
-            meter,
-            flip,
-            variant,
-            methods,
-            view_count,
-            overlay,
-            crowd,
-            crowd_count,
-            crowd_lod,
-            morphs,
-        } = previous.clone();
+        // Everything else is the reader's choice: a setting added later carries over unless named here.
         *self = Settings {
-            speed,
-            distance_mode,
-            manual_distance,
-            dolly_period,
-            tolerance_px,
-            tolerance_height,
-            hysteresis,
-            by_distance,
-            duration,
-            zone,
-            transition_speed,
-            magnify,
-            meter,
-            flip,
-            variant,
-            methods,
-            view_count,
-            overlay,
-            crowd,
-            crowd_count,
-            crowd_lod,
-            morphs,
-            ..self.clone()
+            paused: self.paused,
+            clip: self.clip,
+            yaw_degrees: self.yaw_degrees,
+            pitch_degrees: self.pitch_degrees,
+            pan: self.pan,
+            ..previous.clone()
         };
     }
 
