@@ -86,7 +86,7 @@ clod-viewer > canvas:focus-visible { outline: 3px solid Highlight; outline-offse
 clod-viewer > .clod-label { position: absolute; box-sizing: border-box; padding: 0.15rem 0.45rem; font: 0.8rem system-ui, sans-serif; color: #fff;
   background: rgb(0 0 0 / 0.45); border-radius: 0 0 0.3rem 0; pointer-events: none; white-space: nowrap;
   overflow: hidden; text-overflow: ellipsis; font-variant-numeric: tabular-nums; }
-clod-viewer > .clod-progress { position: absolute; left: 10%; right: 10%; top: 50%; height: 0.5rem; margin: 0; }
+clod-viewer > .clod-progress { position: absolute; left: 10%; width: 80%; top: 50%; height: 0.5rem; margin: 0; }
 clod-viewer > .clod-progress.clod-building { top: auto; bottom: 0.4rem; height: 0.3rem; opacity: 0.8; }
 clod-viewer > .clod-alert { position: absolute; inset: auto 0 0 0; margin: 0; padding: 0.4rem 0.6rem;
   font: 600 0.85rem system-ui, sans-serif; color: #fff; background: rgb(150 30 20 / 0.9); }

@@ -1,5 +1,5 @@
 // Embedding (issue 6): the docs example page with two <clod-viewer> elements, the iframe target
-// embed.html, lazy loading, pausing off screen, and the element's events and methods. Each test
+// embed.html, lazy loading, pausing off screen, the loading bar, and the element's events and methods. Each test
 // runs twice: against www/ served under a docs path (/docs/v1/, scripts/serve.mjs), and against
 // the npm package installed into an empty site (tests/browser/package-site.mjs), whose copies of
 // the two pages load the element from node_modules/.
@@ -35,7 +35,14 @@ async function open(t, path, viewport = { width: 1000, height: 700 }) {
     window.__events = [];
     for (const type of ['progress', 'load', 'lod', 'error']) {
       document.addEventListener(type, (e) => {
-        if (e.target.localName === 'clod-viewer') window.__events.push({ id: e.target.id, type, detail: type === 'load' || type === 'lod' ? { triangles: e.detail.triangles, levels: e.detail.levels.length, lodFrom: e.detail.lodFrom } : e.detail });
+        if (e.target.localName !== 'clod-viewer') return;
+        // Where the loading bar is, in the element's pixels, as each progress event fires.
+        const bar = (element, box = element.getBoundingClientRect()) => {
+          const progress = element.querySelector('progress');
+          const r = progress.getBoundingClientRect();
+          return { shown: !progress.hidden, left: r.left - box.left, right: r.right - box.left, top: r.top - box.top, bottom: r.bottom - box.top, width: box.width, height: box.height };
+        };
+        window.__events.push({ id: e.target.id, type, detail: type === 'load' || type === 'lod' ? { triangles: e.detail.triangles, levels: e.detail.levels.length, lodFrom: e.detail.lodFrom } : e.detail, ...(type === 'progress' && { bar: bar(e.target) }) });
       }, true);
     }
   });
@@ -123,8 +130,17 @@ for (const [site, base] of SITES) {
   test(`${site}: progress events arrive in order and end at 1; play, pause and setTime drive the clock`, async (t) => {
     const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
     await waitLoaded(page, 'walk');
-    const progress = (await events(page, 'walk')).filter((e) => e.type === 'progress').map((e) => e.detail);
+    const progressEvents = (await events(page, 'walk')).filter((e) => e.type === 'progress');
+    const progress = progressEvents.map((e) => e.detail);
     const fractions = progress.map((p) => p.fraction);
+    // The loading bar spans the middle 80 % of the element, within it, whatever the browser's
+    // own width for a <progress> (Chromium's 10em left it a short line in the first view).
+    const shown = progressEvents.filter((e) => e.bar.shown);
+    assert.ok(shown.length >= 2, `the bar shows while loading: ${JSON.stringify(progressEvents)}`);
+    for (const { detail, bar } of shown) {
+      const fits = Math.abs(bar.left - 0.1 * bar.width) < 1 && Math.abs(bar.right - 0.9 * bar.width) < 1 && bar.top >= 0 && bar.bottom <= bar.height;
+      assert.ok(fits, `the bar at ${detail.phase} ${detail.fraction}: ${JSON.stringify(bar)}`);
+    }
     assert.deepEqual(fractions, [...fractions].sort((a, b) => a - b));
     assert.equal(fractions.at(-1), 1);
     assert.equal(progress.at(-1).phase, 'ready');
