@@ -96,6 +96,9 @@ pub struct MeterSample {
     /// Viewer seconds (the dolly clock) when the frame was drawn.
     pub time: f64,
     pub transition: Transition,
+    /// The scene the frame drew (`ViewerModel::scene`): frames of different scenes are never
+    /// compared, neither for a transition's pop nor for the crowd's changes.
+    pub scene: u64,
     /// Each view's difference from the reference.
     pub views: Vec<FrameDifference>,
     /// Each view's difference from its control (see the module docs): what this frame's step of
@@ -150,11 +153,12 @@ pub struct TransitionMeter {
 
 impl TransitionMeter {
     /// Adds a frame's sample (frames in increasing order); returns whether a transition ended
-    /// with it. A sample whose view count differs from the previous one starts afresh (the page
-    /// changed its views).
+    /// with it. A sample whose view count or scene differs from the previous one starts afresh
+    /// (the page changed its views, or what they draw).
     pub fn push(&mut self, sample: MeterSample) -> bool {
         let mut completed = false;
-        if let Some(previous) = self.previous.take().filter(|p| p.views.len() == sample.views.len()) {
+        let comparable = |p: &MeterSample| p.views.len() == sample.views.len() && p.scene == sample.scene;
+        if let Some(previous) = self.previous.take().filter(comparable) {
             if sample.frame != previous.frame + 1 {
                 self.gaps += 1;
             }
@@ -191,7 +195,7 @@ impl TransitionMeter {
     }
 
     /// How each view's difference from the reference changed from frame to frame over the
-    /// history (consecutive frames only): the mean and the largest `|Δ|` per channel, and their
+    /// history (consecutive frames of one scene only): the mean and the largest `|Δ|` per channel, and their
     /// sum per second of viewer time (what changes on screen per second). This is the
     /// crowd's meter, where many transitions overlap and none is "the last": popping's changes
     /// land in single frames (a high peak), a geomorph's are spread over many (a low one), and the
@@ -202,7 +206,11 @@ impl TransitionMeter {
         let mut pairs = 0usize;
         let mut seconds = 0.0f64;
         for (a, b) in self.history.iter().zip(self.history.iter().skip(1)) {
-            if b.frame != a.frame + 1 || a.views.len() != views || b.views.len() != views {
+            if b.frame != a.frame + 1
+                || a.scene != b.scene
+                || a.views.len() != views
+                || b.views.len() != views
+            {
                 continue;
             }
             pairs += 1;
@@ -235,9 +243,8 @@ pub const IN_FLIGHT: usize = 8;
 /// last FLIP.
 #[derive(Clone, Debug, Default)]
 pub struct MeterFrames {
-    /// `(frame number, dolly seconds, the transition shown)`, oldest first, at most
-    /// [`IN_FLIGHT`].
-    pending: VecDeque<(u64, f64, Transition)>,
+    /// The frames sent, oldest first, at most [`IN_FLIGHT`].
+    pending: VecDeque<SentFrame>,
     /// The plans of the last measured frame: each view's control in the next one (see the module
     /// docs); `None` until a frame is measured, and after the levels change.
     pub controls: Option<[ViewPlan; 3]>,
@@ -245,28 +252,35 @@ pub struct MeterFrames {
     pub flip_ppd: Option<f32>,
 }
 
+/// A measured frame whose pictures are on their way back: what its sample needs besides them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SentFrame {
+    pub frame: u64,
+    /// Dolly seconds.
+    pub time: f64,
+    pub transition: Transition,
+    pub scene: u64,
+}
+
 impl MeterFrames {
-    /// Frame `frame` was measured at dolly time `time` showing `transition`, with `plans` (the
-    /// next measured frame's controls).
-    pub fn sent(&mut self, frame: u64, time: f64, transition: Transition, plans: [ViewPlan; 3]) {
+    /// Frame `frame` of `scene` was measured at dolly time `time` showing `transition`, with
+    /// `plans` (the next measured frame's controls).
+    pub fn sent(&mut self, frame: u64, time: f64, transition: Transition, scene: u64, plans: [ViewPlan; 3]) {
         self.controls = Some(plans);
-        self.pending.push_back((frame, time, transition));
+        self.pending.push_back(SentFrame { frame, time, transition, scene });
         while self.pending.len() > IN_FLIGHT {
             self.pending.pop_front();
         }
     }
 
-    /// The dolly time and transition of frame `frame`, whose pictures came back; frames sent
-    /// before it whose pictures never will are forgotten. `None` for a frame not (or no longer)
-    /// in flight.
-    pub fn returned(&mut self, frame: u64) -> Option<(f64, Transition)> {
-        while self.pending.front().is_some_and(|&(f, ..)| f < frame) {
+    /// Frame `frame`, whose pictures came back; frames sent before it whose pictures never will
+    /// are forgotten. `None` for a frame not (or no longer) in flight.
+    pub fn returned(&mut self, frame: u64) -> Option<SentFrame> {
+        while self.pending.front().is_some_and(|s| s.frame < frame) {
             self.pending.pop_front();
         }
-        let &(f, time, transition) = self.pending.front().filter(|p| p.0 == frame)?;
-        self.pending.pop_front();
-        debug_assert_eq!(f, frame);
-        Some((time, transition))
+        self.pending.front().filter(|s| s.frame == frame)?;
+        self.pending.pop_front()
     }
 }
 
@@ -295,14 +309,20 @@ mod tests {
         let mut frames = MeterFrames::default();
         let plans = || std::array::from_fn(|_| ViewPlan { draws: Vec::new(), transition: Transition::at(0) });
         for f in 0..12u64 {
-            frames.sent(f, f as f64 / 10.0, Transition::at(f as usize), plans());
+            frames.sent(f, f as f64 / 10.0, Transition::at(f as usize), f / 6, plans());
         }
         assert!(frames.controls.is_some());
         // Only the last IN_FLIGHT are kept: 4..12.
         assert_eq!(frames.returned(2), None);
-        assert_eq!(frames.returned(5), Some((0.5, Transition::at(5))), "4 never came back");
+        let sent = |frame: u64| SentFrame {
+            frame,
+            time: frame as f64 / 10.0,
+            transition: Transition::at(frame as usize),
+            scene: frame / 6,
+        };
+        assert_eq!(frames.returned(5), Some(sent(5)), "4 never came back");
         assert_eq!(frames.returned(5), None, "each frame comes back once");
-        assert_eq!(frames.returned(9), Some((0.9, Transition::at(9))));
+        assert_eq!(frames.returned(9), Some(sent(9)));
         assert_eq!(frames.returned(20), None);
         assert_eq!(frames.returned(11), None, "everything before 20 was forgotten");
     }
@@ -337,6 +357,7 @@ mod tests {
             frame,
             time: frame as f64 / 60.0,
             transition,
+            scene: 0,
             views: differences(silhouette),
             steps: differences(steps),
         }
@@ -417,5 +438,26 @@ mod tests {
         // Three pairs of 1/60 s each: the sums over 0.05 s.
         assert!((c[0].silhouette_per_second - 0.4 / 0.05).abs() < 1e-3, "{c:?}");
         assert!(TransitionMeter::default().changes().is_empty());
+    }
+
+    #[test]
+    fn frames_of_different_scenes_are_never_compared() {
+        // Crowd mode turned on between frames 2 and 3: every view's difference from the reference
+        // jumps alike (0.1 → 0.6), which is no change a transition made.
+        let mut meter = TransitionMeter::default();
+        let run = |t| Transition { from: 0, to: 1, t };
+        let frames =
+            [(1, run(0.0), 0, 0.1), (2, run(0.5), 0, 0.1), (3, run(0.75), 1, 0.6), (4, run(0.9), 1, 0.62)];
+        for (frame, transition, scene, s) in frames {
+            meter.push(MeterSample { scene, ..sample(frame, transition, [s, s]) });
+        }
+        let c = meter.changes();
+        assert!((c[0].silhouette_peak - 0.02).abs() < 1e-6, "only 3 → 4 counts: {c:?}");
+        assert!((c[0].silhouette_mean - 0.01).abs() < 1e-6, "2 pairs, 1 → 2 and 3 → 4: {c:?}");
+        // The transition running across the change restarts with the new scene: its pops so far
+        // saw no jump.
+        assert_eq!(meter.gaps, 0);
+        let open = meter.open.as_ref().map(|(_, pops)| pops[0].uncontrolled.silhouette);
+        assert!(open.is_some_and(|u| (u - 0.02).abs() < 1e-6), "{open:?}");
     }
 }

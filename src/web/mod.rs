@@ -641,7 +641,7 @@ impl Inner {
                 self.model.set_crowd_palette(PosePalette::sample(&self.character, clip));
             }
             (false, Some(_)) => {
-                self.model.crowd = None;
+                self.model.stop_crowd();
                 self.renderer.drop_crowd();
             }
             _ => {}
@@ -699,7 +699,8 @@ impl Inner {
                 Some(_) => Transition::at(0),
                 None => self.model.plans[0].transition,
             };
-            self.meter_frames.sent(tag, self.model.dolly_time, transition, self.model.plans.clone());
+            let plans = self.model.plans.clone();
+            self.meter_frames.sent(tag, self.model.dolly_time, transition, self.model.scene, plans);
         }
         self.frames += 1;
     }
@@ -707,7 +708,7 @@ impl Inner {
     /// Turns the meter pictures that have come back into samples of the transition meter.
     fn collect_meter(&mut self) {
         for frame in self.renderer.take_meter_frames() {
-            let Some((time, transition)) = self.meter_frames.returned(frame.tag) else { continue };
+            let Some(sent) = self.meter_frames.returned(frame.tag) else { continue };
             let tag = frame.tag;
             let Some(reference) = frame.pictures.first() else { continue };
             // The mean FLIP error of a pair of pictures (0 for a picture against itself).
@@ -740,7 +741,14 @@ impl Inner {
             if frame.flip_ppd.is_some() {
                 self.meter_frames.flip_ppd = frame.flip_ppd;
             }
-            let sample = MeterSample { frame: tag, time, transition, views, steps };
+            let sample = MeterSample {
+                frame: tag,
+                time: sent.time,
+                transition: sent.transition,
+                scene: sent.scene,
+                views,
+                steps,
+            };
             self.record_replay(&frame, &sample);
             self.meter.push(sample);
         }

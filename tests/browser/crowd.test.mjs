@@ -1,7 +1,8 @@
 // (9) Crowd mode: the character instanced on the ground, each instance with its own level and
 // transitions (src/render/crowd/). On WebGPU and WebGL2: the crowd draws, every view shows
 // instances at several levels at once (read back: the level overlay's colours), the per-level
-// counts add up to the instances drawn, and views forced to one method are the same picture.
+// counts add up to the instances drawn, and views forced to one method are the same picture; the
+// crowd meter's changes leave out the frame the crowd came on.
 // A small page and a small crowd: SwiftShader draws a few hundred thousand triangles per second.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -152,4 +153,34 @@ test('crowd.html: the docs page with a crowd element loads, draws the crowd and 
   }
   await page.waitForFunction(() => /instances in view/.test(document.getElementById('numbers').textContent), null, { timeout: 10_000 });
   assert.deepEqual(logs, []);
+});
+
+// Draws one frame at `now` and waits for the GPU, so the meter's readback is back by the next.
+const step = (page, now, state = {}) => page.evaluate(async ([s, t]) => {
+  window.__clod.setState(s);
+  const state = window.__clod.renderFrame(t);
+  await window.__clod.finish();
+  return state;
+}, [state, now]);
+
+test('webgpu: the crowd meter compares crowd frames only: turning the crowd on is no change of the crowd\'s', async () => {
+  const page = await openPage(browser, {}, SMALL_VIEWPORT);
+  const c = clock();
+  // Paused at a fixed distance: one crowd frame draws what the one before drew.
+  let state = await step(page, c.now, { meter: true, flip: false, paused: true, time: 0.3, distanceMode: 'manual', tolerance: 0.1, count: 60 });
+  for (let i = 0; i < 3; i++) state = await step(page, c.tick(100));
+  state = await step(page, c.tick(100), { mode: 'crowd' });
+  for (let i = 0; i < 4; i++) state = await step(page, c.tick(100));
+  assert.equal(state.mode, 'crowd');
+  // The history spans the switch: every view's difference from full detail jumped there.
+  const { samples } = await page.evaluate(() => document.getElementById('viewer').meterHistory());
+  const peaks = state.meter.changes.map((change) => change.silhouettePeak);
+  state.views.forEach((_, v) => {
+    const series = samples.map((s) => s[2 + 2 * v]);
+    const jump = Math.max(...series.slice(1).map((x, i) => Math.abs(x - series[i])));
+    console.log(`view ${v}: the switch moved the difference by ${jump.toFixed(4)} %, the crowd meter's peak ${peaks[v].toFixed(4)} %`);
+    assert.ok(jump > 0.02, `the crowd changes the picture: ${series}`);
+    assert.ok(peaks[v] <= 0.25 * jump, `view ${v}: the crowd's peak ${peaks[v]} % is the switch's ${jump} %`);
+  });
+  await page.close();
 });

@@ -56,6 +56,11 @@ pub struct ViewerModel {
     errors: Vec<f32>,
     /// Crowd mode's state, while on (see [`ViewerModel::start_crowd`]).
     pub crowd: Option<CrowdState>,
+    /// Counts the changes of what the views draw that are neither the clock nor a transition:
+    /// crowd mode on or off, the crowd laid out again or given another clip, the levels
+    /// replaced. The meter compares only frames of one scene (`MeterSample::scene`): across
+    /// such a change, every view's picture jumps alike.
+    pub scene: u64,
 }
 
 /// Seed of every crowd's layout: the same crowd on every visit and in every test.
@@ -106,6 +111,7 @@ impl ViewerModel {
             plans: [rest.clone(), rest.clone(), rest],
             errors: if errors.is_empty() { vec![0.0] } else { errors },
             crowd: None,
+            scene: 0,
         };
         model.advance(0.0);
         model.settle();
@@ -144,6 +150,7 @@ impl ViewerModel {
         // The crowd is laid out for the levels' switch distances: the web layer starts it again
         // with the new levels' triangle counts.
         self.crowd = None;
+        self.scene += 1;
         self.schedule = Schedule::FINEST;
         self.advance(0.0);
         self.settle();
@@ -256,13 +263,22 @@ impl ViewerModel {
         crowd.floor = floor;
         self.crowd =
             Some(CrowdState { crowd, palette, level_triangles, frame: CrowdFrame::default(), aspect });
+        self.scene += 1;
         self.step_crowd(0.0);
+    }
+
+    /// Ends crowd mode: the single character again.
+    pub fn stop_crowd(&mut self) {
+        if self.crowd.take().is_some() {
+            self.scene += 1;
+        }
     }
 
     /// Replaces the crowd's pose palette (another clip).
     pub fn set_crowd_palette(&mut self, palette: PosePalette) {
         if let Some(c) = &mut self.crowd {
             c.palette = palette;
+            self.scene += 1;
         }
     }
 

@@ -261,3 +261,39 @@ fn a_new_model_keeps_the_comparison_settings_and_its_own_clip_and_framing() {
     next.keep_settings_from(&previous.settings);
     assert_eq!(next.settings, once);
 }
+
+#[test]
+fn a_new_scene_begins_where_the_views_jump_alike_and_nowhere_else() {
+    use crate::render::crowd::PosePalette;
+    use glam::Mat4;
+    let palette = |clip| PosePalette {
+        joints: 1,
+        rows: 1,
+        duration: 0.0,
+        matrices: vec![Mat4::IDENTITY],
+        targets: 0,
+        weights: Vec::new(),
+        clip,
+    };
+    let mut m = model();
+    let mut scenes = vec![m.scene];
+    m.advance(0.1);
+    scenes.push(m.scene);
+    m.start_crowd(palette(None), vec![100, 50, 25, 12, 6], 0.0);
+    scenes.push(m.scene);
+    m.advance(0.1);
+    scenes.push(m.scene);
+    m.set_crowd_palette(palette(Some(1)));
+    scenes.push(m.scene);
+    // Another count lays the crowd out again.
+    m.apply(&Update { crowd_count: Some(10), ..Default::default() });
+    m.advance(0.1);
+    scenes.push(m.scene);
+    m.stop_crowd();
+    scenes.push(m.scene);
+    m.stop_crowd();
+    scenes.push(m.scene);
+    m.set_levels(ERRORS.to_vec());
+    scenes.push(m.scene);
+    assert_eq!(scenes, [0, 0, 1, 1, 2, 3, 4, 4, 5]);
+}
