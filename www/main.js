@@ -333,7 +333,10 @@ function showStats() {
   if (!loaded) return;
   const s = viewer.state();
   const levels = s.levels.map((l, i) => `${i}: ${l.triangles.toLocaleString()}`).join(' · ');
-  const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()} (level ${v.level}${v.to !== v.level ? ` → ${v.to}, t ${v.t.toFixed(2)}` : ''})`).join(' · ');
+  // In crowd mode each instance has its own level (the Crowd row counts them): a view's level
+  // would be the single character's, which is not drawn.
+  const level = (v) => (s.crowd ? '' : ` (level ${v.level}${v.to !== v.level ? ` → ${v.to}, t ${v.t.toFixed(2)}` : ''})`);
+  const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()}${level(v)}`).join(' · ');
   const rows = [
     ['Drawn', views],
     ['Levels', s.levelsStop ? `${levels} (${s.levelsStop})` : levels],

@@ -1,6 +1,7 @@
 // The page for readers (issue 6): opening every shared model through the file input, a .gltf with
 // its .bin dropped together, a corrupted file next to a model that keeps playing, progress events,
-// URL state, and a main thread that never blocks for more than 200 ms while a model is built.
+// URL state, the numbers in crowd mode, and a main thread that never blocks for more than 200 ms
+// while a model is built.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, existsSync } from 'node:fs';
@@ -283,6 +284,20 @@ test('every control has a label and the camera answers the keyboard', async () =
   assert.deepEqual(reset.pan, before.pan);
 });
 
+
+test('the live page in crowd mode: the numbers count the instances at their levels, not a level of the single character', async (t) => {
+  const page = await browser.newPage({ viewport: { width: 700, height: 500 } });
+  t.after(() => page.close());
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(`${baseUrl}?settings=realistic&crowd=100`);
+  await page.waitForFunction(() => document.documentElement.dataset.lod === 'ready', null, { timeout: 120_000 });
+  await page.waitForFunction(() => /Crowd[0-9,]+ of 100 instances drawn/.test(document.getElementById('stats').textContent), null, { timeout: 60_000 });
+  const drawn = await page.locator('#stat-drawn').textContent();
+  assert.match(drawn, /^popping [0-9,]+ · alpha [0-9,]+ · geomorph [0-9,]+$/, `each view's triangles, no level: ${drawn}`);
+  assert.match(await page.locator('#stat-crowd').textContent(), /\(L0 [0-9]+ · L1 [0-9]+/);
+  assert.deepEqual(errors, []);
+});
 
 test('the live page never measures on its own; the button measures the pop spike while inputs keep working, and a model opened meanwhile ends it', async (t) => {
   const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
