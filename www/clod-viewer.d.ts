@@ -16,7 +16,9 @@ export type Method = 'popping' | 'alpha' | 'geomorph';
 /** One view of the canvas: the transition it draws this frame. */
 export interface ViewState {
   method: Method;
-  /** The level shown, and the level the running transition goes to (equal when none runs). */
+  /** The level shown, and the level the running transition goes to (equal when none runs). With
+   * the continuous slider on, `levels.length` and `levels.length + 1` are its finer and coarser
+   * states (the labels then say "continuous"). */
   level: number;
   to: number;
   /** The transition's progress, 0..1. */

@@ -584,25 +584,30 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.triangles = view.triangles;
       label.dataset.to = view.to;
       label.dataset.t = view.t.toFixed(3);
-      const t = view.to !== view.level ? ` → ${view.to}, t = ${view.t.toFixed(2)}` : '';
+      // The continuous slider's two states are levels `levels.length` and one more: no level a
+      // reader knows, so the label names the slider instead.
+      const continuous = state.continuousTriangles !== null;
+      const morph = view.to !== view.level ? `, t = ${view.t.toFixed(2)}` : '';
+      const where = continuous ? `continuous${morph}` : `level ${view.level}${morph && ` → ${view.to}${morph}`}`;
       // Magnified views say so: what is seen is the real size's change, enlarged.
       const magnified = state.magnify > 1 ? ` · magnified ×${state.magnify}` : '';
       const name = METHOD_LABELS[view.method] ?? view.method;
       label.textContent = state.crowd
         ? `${name} · ${state.crowd.drawn.toLocaleString()} of ${state.crowd.instances.toLocaleString()} drawn · ${view.triangles.toLocaleString()} triangles`
-        : `${name} · level ${view.level}${t} · ${view.triangles.toLocaleString()} triangles${magnified}`;
+        : `${name} · ${where} · ${view.triangles.toLocaleString()} triangles${magnified}`;
     });
     // A label wider than its view (three views in a narrow column) takes the short form; one
     // still too wide ends in an ellipsis (CSS). Written first, measured after: one layout.
     this.#labels.forEach((label, i) => {
       const view = state.views[i];
       if (!view || label.scrollWidth <= label.clientWidth) return;
-      const t = view.to !== view.level ? `→${view.to} (${view.t.toFixed(2)})` : '';
+      const morph = view.to !== view.level ? ` (${view.t.toFixed(2)})` : '';
+      const where = state.continuousTriangles !== null ? `cont.${morph}` : `L${view.level}${morph && `→${view.to}${morph}`}`;
       const magnified = state.magnify > 1 ? ` · ×${state.magnify}` : '';
       const name = SHORT_METHOD_LABELS[view.method] ?? view.method;
       label.textContent = state.crowd
         ? `${name} · ${view.triangles.toLocaleString()} tris`
-        : `${name} · L${view.level}${t} · ${view.triangles.toLocaleString()} tris${magnified}`;
+        : `${name} · ${where} · ${view.triangles.toLocaleString()} tris${magnified}`;
     });
     if (state.errors.length > this.#errorsSeen) {
       this.#fail(coded(new Error(state.errors.slice(this.#errorsSeen).join('\n')), 'render'));

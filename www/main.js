@@ -335,7 +335,12 @@ function showStats() {
   const levels = s.levels.map((l, i) => `${i}: ${l.triangles.toLocaleString()}`).join(' · ');
   // In crowd mode each instance has its own level (the Crowd row counts them): a view's level
   // would be the single character's, which is not drawn.
-  const level = (v) => (s.crowd ? '' : ` (level ${v.level}${v.to !== v.level ? ` → ${v.to}, t ${v.t.toFixed(2)}` : ''})`);
+  // The continuous slider's states are no level a reader knows (levels.length and one more).
+  const morph = (v) => (v.to !== v.level ? `, t ${v.t.toFixed(2)}` : '');
+  const level = (v) => {
+    if (s.crowd) return '';
+    return s.continuousTriangles !== null ? ` (continuous${morph(v)})` : ` (level ${v.level}${morph(v) && ` → ${v.to}${morph(v)}`})`;
+  };
   const views = s.views.map((v) => `${v.method} ${v.triangles.toLocaleString()}${level(v)}`).join(' · ');
   const rows = [
     ['Drawn', views],

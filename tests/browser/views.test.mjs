@@ -85,6 +85,10 @@ test('the continuous LOD slider: every view draws about n triangles, coarser n c
   assert.ok(shown.every((x) => x === shown[0]) && mid.views[0].level !== mid.views[0].to, `every view shows one change: ${shown}`);
   assert.ok(mid.views.every((v) => v.t > 0.4 && v.t < 0.6), `t: ${mid.views.map((v) => v.t)}`);
   assert.equal(mid.views[0].triangles, mid.continuousTriangles, 'popping switched at once');
+  // The slider's states are levels.length and one more: the labels name the slider instead.
+  const labels = await page.$$eval('.label', (ls) => ls.map((l) => l.textContent));
+  const named = (l) => / · (continuous, t = |cont\. \()0\.[0-9]{2}\)? · [0-9,]+ (triangles|tris)$/.test(l) && !/level|L[0-9]/.test(l);
+  assert.ok(labels.every(named), `labels (in full, or short in a narrow view): ${labels}`);
   const pixels = await readPixels(page);
   const [popped, , morphing] = mid.views.map((v) => crop(pixels, v.rect));
   const toCoarse = meanAbsDiff(morphing, coarse);
