@@ -58,7 +58,7 @@ pub struct ViewerModel {
     pub crowd: Option<CrowdState>,
     /// Counts the changes of what the views draw that are neither the clock nor a transition:
     /// crowd mode on or off, the crowd laid out again or given another clip, the levels
-    /// replaced. The meter compares only frames of one scene (`MeterSample::scene`): across
+    /// replaced, the canvas resized. The meter compares only frames of one scene (`MeterSample::scene`): across
     /// such a change, every view's picture jumps alike.
     pub scene: u64,
 }
@@ -156,8 +156,11 @@ impl ViewerModel {
         self.settle();
     }
 
-    /// Resizes the canvas (framebuffer pixels).
+    /// Resizes the canvas (framebuffer pixels): another size is another scene.
     pub fn resize(&mut self, width: u32, height: u32) {
+        if (width, height) != self.canvas {
+            self.scene += 1;
+        }
         self.canvas = (width, height);
         self.layout = layout(width, height, self.settings.view_count);
     }

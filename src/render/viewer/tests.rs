@@ -295,5 +295,10 @@ fn a_new_scene_begins_where_the_views_jump_alike_and_nowhere_else() {
     scenes.push(m.scene);
     m.set_levels(ERRORS.to_vec());
     scenes.push(m.scene);
-    assert_eq!(scenes, [0, 0, 1, 1, 2, 3, 4, 4, 5]);
+    // Every update resizes to the canvas's size, which is no change.
+    m.apply(&Update { duration: Some(1.0), ..Default::default() });
+    scenes.push(m.scene);
+    m.resize(600, 300);
+    scenes.push(m.scene);
+    assert_eq!(scenes, [0, 0, 1, 1, 2, 3, 4, 4, 5, 5, 6]);
 }
