@@ -195,8 +195,8 @@ impl TransitionMeter {
     }
 
     /// How each view's difference from the reference changed from frame to frame over the
-    /// history (consecutive frames of one scene only): the mean and the largest `|Δ|` per channel, and their
-    /// sum per second of viewer time (what changes on screen per second). This is the
+    /// history (consecutive frames of one scene only): the mean and the largest `|Δ|` per
+    /// channel, and their sum per second of viewer time (what changes on screen per second). This is the
     /// crowd's meter, where many transitions overlap and none is "the last": popping's changes
     /// land in single frames (a high peak), a geomorph's are spread over many (a low one), and the
     /// animation's own motion adds the same to every view.

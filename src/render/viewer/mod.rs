@@ -58,8 +58,8 @@ pub struct ViewerModel {
     pub crowd: Option<CrowdState>,
     /// Counts the changes of what the views draw that are neither the clock nor a transition:
     /// crowd mode on or off, the crowd laid out again or given another clip, the levels
-    /// replaced, the canvas resized. The meter compares only frames of one scene (`MeterSample::scene`): across
-    /// such a change, every view's picture jumps alike.
+    /// replaced, the canvas resized. The meter compares only frames of one scene
+    /// (`MeterSample::scene`): across such a change, every view's picture jumps alike.
     pub scene: u64,
 }
 
