@@ -1,6 +1,6 @@
 // Embedding (issue 6): the docs example page with two <clod-viewer> elements, the iframe target
-// embed.html, lazy loading, pausing off screen, the loading bar, and the element's events and methods. Each test
-// runs twice: against www/ served under a docs path (/docs/v1/, scripts/serve.mjs), and against
+// embed.html, lazy loading, pausing off screen, the loading bar, and the element's events and
+// methods. Each test runs twice: against www/ served under a docs path (/docs/v1/, scripts/serve.mjs), and against
 // the npm package installed into an empty site (tests/browser/package-site.mjs), whose copies of
 // the two pages load the element from node_modules/.
 import { test, before, after } from 'node:test';
