@@ -167,10 +167,11 @@ test('webgpu: the crowd meter compares crowd frames only: turning the crowd on i
   const page = await openPage(browser, {}, SMALL_VIEWPORT);
   const c = clock();
   // Paused at a fixed distance: one crowd frame draws what the one before drew.
-  let state = await step(page, c.now, { meter: true, flip: false, paused: true, time: 0.3, distanceMode: 'manual', tolerance: 0.1, count: 60 });
-  for (let i = 0; i < 3; i++) state = await step(page, c.tick(100));
+  // A small crowd: the meter's reference is every instance at full detail.
+  let state = await step(page, c.now, { meter: true, flip: false, paused: true, time: 0.3, distanceMode: 'manual', tolerance: 0.1, count: 16 });
+  state = await step(page, c.tick(100));
   state = await step(page, c.tick(100), { mode: 'crowd' });
-  for (let i = 0; i < 4; i++) state = await step(page, c.tick(100));
+  for (let i = 0; i < 3; i++) state = await step(page, c.tick(100));
   assert.equal(state.mode, 'crowd');
   // The history spans the switch: every view's difference from full detail jumped there.
   const { samples } = await page.evaluate(() => document.getElementById('viewer').meterHistory());
@@ -179,7 +180,7 @@ test('webgpu: the crowd meter compares crowd frames only: turning the crowd on i
     const series = samples.map((s) => s[2 + 2 * v]);
     const jump = Math.max(...series.slice(1).map((x, i) => Math.abs(x - series[i])));
     console.log(`view ${v}: the switch moved the difference by ${jump.toFixed(4)} %, the crowd meter's peak ${peaks[v].toFixed(4)} %`);
-    assert.ok(jump > 0.02, `the crowd changes the picture: ${series}`);
+    assert.ok(jump > 0.01, `the crowd changes the picture: ${series}`);
     assert.ok(peaks[v] <= 0.25 * jump, `view ${v}: the crowd's peak ${peaks[v]} % is the switch's ${jump} %`);
   });
   await page.close();
