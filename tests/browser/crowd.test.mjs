@@ -6,7 +6,7 @@
 // A small page and a small crowd: SwiftShader draws a few hundred thousand triangles per second.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, readPixels, crop, clock, savePng, decodePixels, SMALL_VIEWPORT } from './helpers.mjs';
+import { launch, openPage, frame, step, readPixels, crop, clock, savePng, decodePixels, SMALL_VIEWPORT } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -154,14 +154,6 @@ test('crowd.html: the docs page with a crowd element loads, draws the crowd and 
   await page.waitForFunction(() => /instances in view/.test(document.getElementById('numbers').textContent), null, { timeout: 10_000 });
   assert.deepEqual(logs, []);
 });
-
-// Draws one frame at `now` and waits for the GPU, so the meter's readback is back by the next.
-const step = (page, now, state = {}) => page.evaluate(async ([s, t]) => {
-  window.__clod.setState(s);
-  const state = window.__clod.renderFrame(t);
-  await window.__clod.finish();
-  return state;
-}, [state, now]);
 
 test('webgpu: the crowd meter compares crowd frames only: turning the crowd on is no change of the crowd\'s', async () => {
   const page = await openPage(browser, {}, SMALL_VIEWPORT);

@@ -68,6 +68,16 @@ export function frame(page, nowMs, state = {}) {
   return page.evaluate(([s, t]) => { window.__clod.setState(s); return window.__clod.renderFrame(t); }, [state, nowMs]);
 }
 
+// Like `frame`, and waits for the GPU, so the meter's readback of this frame is back by the next.
+export function step(page, nowMs, state = {}) {
+  return page.evaluate(async ([s, t]) => {
+    window.__clod.setState(s);
+    const state = window.__clod.renderFrame(t);
+    await window.__clod.finish();
+    return state;
+  }, [state, nowMs]);
+}
+
 // The current frame read back: `{ width, height, data: Uint8Array }` (RGBA, top row first).
 export async function readPixels(page) {
   return decodePixels(await page.evaluate(async () => window.__encodePixels(await window.__clod.readPixels())));

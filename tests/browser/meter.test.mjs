@@ -13,21 +13,13 @@
 // WebGPU and WebGL2.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, openPage, frame, FINEST_TOLERANCE, tuneTolerance, SMALL_VIEWPORT } from './helpers.mjs';
+import { launch, openPage, frame, step, FINEST_TOLERANCE, tuneTolerance, SMALL_VIEWPORT } from './helpers.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
 const METHODS = ['popping', 'alpha', 'geomorph'];
-
-// Draws one frame at `now` and waits for the GPU, so the meter's readback is back by the next.
-const step = (page, now, state = {}) => page.evaluate(async ([s, t]) => {
-  window.__clod.setState(s);
-  const state = window.__clod.renderFrame(t);
-  await window.__clod.finish();
-  return state;
-}, [state, now]);
 
 for (const backend of ['webgpu', 'webgl2']) {
   test(`${backend}: a view whose level holds reports no step while the character walks`, async () => {
