@@ -85,7 +85,9 @@ export interface Replay {
   };
 }
 
-/** LDR-FLIP in the live meter (`state().meter.flip`), null where the GPU cannot compute it. */
+/** LDR-FLIP in the live meter (`state().meter.flip`): null where the GPU cannot compute it, with
+ * FLIP off, before a frame was compared, and in crowd mode (the crowd meter compares silhouettes
+ * and shading). */
 export interface MeterFlip {
   /** Pixels per degree of the meter's picture when the view is seen at FLIP's standard 67. */
   ppd: number;

@@ -182,7 +182,19 @@ function syncControls(state) {
   $('distance').value = Math.log(Math.max(1, state.distance)) / Math.log(100);
   $('distance-out').textContent = `${state.distance.toFixed(1)}×`;
   $('crowd-on').checked = state.mode === 'crowd';
-  if (state.crowd) $('crowd-count').value = String(state.crowd.instances);
+  if (state.crowd) showCrowdCount(state.crowd.instances);
+}
+
+// The select offers a few counts; a link or the element may ask for any other (1 to 4,096): it
+// gets an option of its own, in order, rather than a blank select.
+function showCrowdCount(instances) {
+  const select = $('crowd-count');
+  const value = String(instances);
+  if (![...select.options].some((o) => o.value === value)) {
+    const option = new Option(instances.toLocaleString('en-US'), value);
+    select.add(option, [...select.options].find((o) => Number(o.value) > instances) ?? null);
+  }
+  select.value = value;
 }
 
 // After a load: the settings the new model kept (or, after a failure, started afresh), as they are.
@@ -362,9 +374,13 @@ function showStats() {
   if (s.meter.on) {
     rows.push(['FLIP', s.meter.flip
       ? `LDR-FLIP against full detail, mean per view at ${s.meter.flip.ppd.toFixed(1)} px per degree (the meter's picture when the view is seen at 67 px per degree): ${s.views.map((v, i) => `${v.method} ${(s.meter.flip.views[i] ?? 0).toFixed(4)}`).join(' · ')}`
-      : s.meter.flipOn ? 'not measured (this GPU cannot render into float targets, or nothing to compare yet)' : 'off']);
+      : !s.meter.flipOn ? 'off'
+        : s.crowd ? 'not measured in crowd mode (the crowd meter compares silhouettes)'
+          : 'not measured (this GPU cannot render into float targets, or nothing to compare yet)']);
   }
   drawMeterChart();
+  // A crowd has no single transition to tabulate: its numbers are the Crowd meter row.
+  $('meter-table').hidden = Boolean(s.crowd);
   showMeterTable(s.meter);
   stats.replaceChildren(...rows.flatMap(([k, v]) => [
     Object.assign(document.createElement('dt'), { textContent: k }),

@@ -68,13 +68,15 @@ impl Inner {
     }
 
     /// `state().meter.flip`: LDR-FLIP of each view against the reference, `None` where the GPU
-    /// cannot compute it, FLIP is off (then the history's FLIP values are 0, as on such a GPU), or
-    /// before a frame needed it: the pixels per degree of the meter's
+    /// cannot compute it, FLIP is off (then the history's FLIP values are 0, as on such a GPU),
+    /// before a frame needed it, or in crowd mode (the meter measures no FLIP there, and the
+    /// single character's last numbers are not the crowd's): the pixels per degree of the meter's
     /// picture, each view's mean error in the last measured frame, and per method the last
     /// transition's pop (its largest mean error of a frame against its control) and the same
     /// without the control (the largest frame-to-frame change of the error against the reference).
     fn meter_flip(&self) -> Option<MeterFlip> {
-        let ppd = self.meter_frames.flip_ppd.filter(|_| self.model.settings.flip)?;
+        let ppd =
+            self.meter_frames.flip_ppd.filter(|_| self.model.settings.flip && self.model.crowd.is_none())?;
         let views =
             self.meter.history.back().map_or(Vec::new(), |s| s.views.iter().map(|v| Num(v.flip)).collect());
         let methods = &self.model.settings.methods[..self.model.settings.view_count];

@@ -2,7 +2,8 @@
 // transitions (src/render/crowd/). On WebGPU and WebGL2: the crowd draws, every view shows
 // instances at several levels at once (read back: the level overlay's colours), the per-level
 // counts add up to the instances drawn, and views forced to one method are the same picture; the
-// crowd meter's changes leave out the frame the crowd came on.
+// crowd meter's changes leave out the frame the crowd came on, and it has no FLIP numbers (not the
+// single character's last ones).
 // A small page and a small crowd: SwiftShader draws a few hundred thousand triangles per second.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -155,7 +156,7 @@ test('crowd.html: the docs page with a crowd element loads, draws the crowd and 
   assert.deepEqual(logs, []);
 });
 
-test('webgpu: the crowd meter compares crowd frames only: turning the crowd on is no change of the crowd\'s', async () => {
+test('webgpu: the crowd meter compares crowd frames only: turning the crowd on is no change of the crowd\'s; it reports no FLIP', async () => {
   const page = await openPage(browser, {}, SMALL_VIEWPORT);
   const c = clock();
   // Paused at a fixed distance: one crowd frame draws what the one before drew.
@@ -175,5 +176,17 @@ test('webgpu: the crowd meter compares crowd frames only: turning the crowd on i
     assert.ok(jump > 0.01, `the crowd changes the picture: ${series}`);
     assert.ok(peaks[v] <= 0.25 * jump, `view ${v}: the crowd's peak ${peaks[v]} % is the switch's ${jump} %`);
   });
+  // The single character at its coarsest level (switch distances scale as 1 / tolerance), so
+  // every view differs from full detail, with FLIP on: the meter has FLIP numbers. In crowd mode
+  // again it has none, not the single character's last ones.
+  const k = state.levels.length - 1;
+  state = await step(page, c.tick(100), { mode: 'single', flip: true, distance: 1 });
+  state = await step(page, c.tick(100), { duration: 0, tolerance: 0.1 * state.switch[k] / 0.5 });
+  for (let i = 0; i < 2; i++) state = await step(page, c.tick(100));
+  assert.deepEqual(state.views.map((v) => v.level), [k, k, k]);
+  assert.ok(state.meter.flip?.views.length === 3, `FLIP in single mode: ${JSON.stringify(state.meter.flip)}`);
+  state = await step(page, c.tick(100), { mode: 'crowd' });
+  state = await step(page, c.tick(100));
+  assert.equal(state.meter.flip, null);
   await page.close();
 });

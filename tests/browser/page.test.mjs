@@ -285,7 +285,7 @@ test('every control has a label and the camera answers the keyboard', async () =
 });
 
 
-test('the live page in crowd mode: the numbers count the instances at their levels, not a level of the single character', async (t) => {
+test('the live page in crowd mode: the numbers count the instances at their levels, not a level of the single character; the count asked for is selected; no single-transition table or FLIP number', async (t) => {
   const page = await browser.newPage({ viewport: { width: 700, height: 500 } });
   t.after(() => page.close());
   const errors = [];
@@ -297,6 +297,12 @@ test('the live page in crowd mode: the numbers count the instances at their leve
   const drawn = await page.locator('#stat-drawn').textContent();
   assert.match(drawn, /^popping [0-9,]+ · alpha [0-9,]+ · geomorph [0-9,]+$/, `each view's triangles, no level: ${drawn}`);
   assert.match(await page.locator('#stat-crowd').textContent(), /\(L0 [0-9]+ · L1 [0-9]+/);
+  // The count asked for shows in the select although it offers 100, 400, 1,600 and 2,000.
+  assert.equal(await page.locator('#crowd-count').inputValue(), '10');
+  assert.deepEqual(await page.locator('#crowd-count option').allTextContents(), ['10', '100', '400', '1,600', '2,000']);
+  // No single transition to tabulate, and FLIP says why it has no number (not a GPU's fault).
+  assert.equal(await page.locator('#meter-table').isHidden(), true, 'the pop table is hidden in crowd mode');
+  assert.match(await page.locator('#stat-flip').textContent(), /^not measured in crowd mode/);
   assert.deepEqual(errors, []);
 });
 
