@@ -47,6 +47,32 @@ const SETTING_ATTRIBUTES = ['autoplay', 'preset', 'clip', 'modes', 'variant', 't
 const METHOD_LABELS = { popping: 'popping', alpha: 'alpha-blending', geomorph: 'geomorphing' };
 // Labels of narrow views (the `modes` attribute's names).
 const SHORT_METHOD_LABELS = { popping: 'pop', alpha: 'blend', geomorph: 'morph' };
+// The label forms, longest first: `full` spells everything out, `compact` keeps the method's
+// name and abbreviates the rest, `short` abbreviates the name too.
+const LABEL_FORMS = ['full', 'compact', 'short'];
+
+// A view's label in one of LABEL_FORMS: the method, the level or change shown (in crowd mode the
+// instances drawn, each at its own level), the triangles drawn and the magnifier.
+function labelText(state, view, form) {
+  const full = form === 'full';
+  const name = (form === 'short' ? SHORT_METHOD_LABELS : METHOD_LABELS)[view.method] ?? view.method;
+  const triangles = `${view.triangles.toLocaleString()} ${full ? 'triangles' : 'tris'}`;
+  if (state.crowd) {
+    const drawn = `${state.crowd.drawn.toLocaleString()} of ${state.crowd.instances.toLocaleString()} drawn`;
+    return full ? `${name} · ${drawn} · ${triangles}` : `${name} · ${triangles}`;
+  }
+  const t = view.t.toFixed(2);
+  const morph = view.to === view.level ? '' : full ? `, t = ${t}` : ` (${t})`;
+  // The continuous slider's two states are levels `levels.length` and one more: no level a
+  // reader knows, so the label names the slider instead.
+  let where;
+  if (state.continuousTriangles !== null) where = `${full ? 'continuous' : 'cont.'}${morph}`;
+  else if (full) where = `level ${view.level}${morph && ` → ${view.to}${morph}`}`;
+  else where = `L${view.level}${morph && `→${view.to}${morph}`}`;
+  // Magnified views say so: what is seen is the real size's change, enlarged.
+  const magnified = state.magnify > 1 ? ` · ${full ? 'magnified ' : ''}×${state.magnify}` : '';
+  return `${name} · ${where} · ${triangles}${magnified}`;
+}
 
 // What a reader sees when the browser gives the canvas neither a WebGPU nor a WebGL2 context
 // (the backends' own reports go to the console).
@@ -584,31 +610,15 @@ export class ClodViewerElement extends HTMLElement {
       label.dataset.triangles = view.triangles;
       label.dataset.to = view.to;
       label.dataset.t = view.t.toFixed(3);
-      // The continuous slider's two states are levels `levels.length` and one more: no level a
-      // reader knows, so the label names the slider instead.
-      const continuous = state.continuousTriangles !== null;
-      const morph = view.to !== view.level ? `, t = ${view.t.toFixed(2)}` : '';
-      const where = continuous ? `continuous${morph}` : `level ${view.level}${morph && ` → ${view.to}${morph}`}`;
-      // Magnified views say so: what is seen is the real size's change, enlarged.
-      const magnified = state.magnify > 1 ? ` · magnified ×${state.magnify}` : '';
-      const name = METHOD_LABELS[view.method] ?? view.method;
-      label.textContent = state.crowd
-        ? `${name} · ${state.crowd.drawn.toLocaleString()} of ${state.crowd.instances.toLocaleString()} drawn · ${view.triangles.toLocaleString()} triangles`
-        : `${name} · ${where} · ${view.triangles.toLocaleString()} triangles${magnified}`;
     });
-    // A label wider than its view (three views in a narrow column) takes the short form; one
-    // still too wide ends in an ellipsis (CSS). Written first, measured after: one layout.
-    this.#labels.forEach((label, i) => {
-      const view = state.views[i];
-      if (!view || label.scrollWidth <= label.clientWidth) return;
-      const morph = view.to !== view.level ? ` (${view.t.toFixed(2)})` : '';
-      const where = state.continuousTriangles !== null ? `cont.${morph}` : `L${view.level}${morph && `→${view.to}${morph}`}`;
-      const magnified = state.magnify > 1 ? ` · ×${state.magnify}` : '';
-      const name = SHORT_METHOD_LABELS[view.method] ?? view.method;
-      label.textContent = state.crowd
-        ? `${name} · ${view.triangles.toLocaleString()} tris`
-        : `${name} · ${where} · ${view.triangles.toLocaleString()} tris${magnified}`;
-    });
+    // One form for every label, the longest whose every label fits its view (three views in a
+    // narrow column take the short form); one still too wide ends in an ellipsis (CSS). Each form
+    // is written first and measured after: one layout per form tried.
+    const shown = this.#labels.slice(0, state.views.length);
+    for (const form of LABEL_FORMS) {
+      shown.forEach((label, i) => { label.textContent = labelText(state, state.views[i], form); });
+      if (shown.every((label) => label.scrollWidth <= label.clientWidth)) break;
+    }
     if (state.errors.length > this.#errorsSeen) {
       this.#fail(coded(new Error(state.errors.slice(this.#errorsSeen).join('\n')), 'render'));
       this.#errorsSeen = state.errors.length;

@@ -100,7 +100,7 @@ for (const [site, base] of SITES) {
       c.forEach((f, i) => assert.ok(f > 0.02, `${id} view ${i} is blank (${f})`));
     }
     // Three views in the article's column are about 250 px wide: every label stays inside its view
-    // and shows its whole text, the triangle count included (the short form where the long one
+    // and shows its whole text, the triangle count included (a shorter form where the full one
     // does not fit).
     for (const id of ['walk', 'wave']) {
       // One frame drawn and its labels read in the same task, so both show the same levels.
@@ -116,6 +116,10 @@ for (const [site, base] of SITES) {
         return { state, labels: labels.map((l) => ({ ...l, dpr: canvas.width / canvas.clientWidth })) };
       }, id);
       assert.equal(labels.length, state.views.length);
+      // Every label in one form (full, compact: the method's name and the rest abbreviated, or
+      // short), not the popping view's spelled out beside abbreviated neighbours.
+      const form = (text) => (text.includes(' triangles') ? 'full' : /^(popping|alpha-blending|geomorphing) /.test(text) ? 'compact' : 'short');
+      assert.equal(new Set(labels.map((l) => form(l.text))).size, 1, `${id} labels in one form: ${labels.map((l) => l.text).join(' | ')}`);
       labels.forEach((l, i) => {
         const [x, , w] = state.views[i].rect;
         assert.ok(!l.clipped, `${id} label ${i} is cut off: ${l.text}`);
