@@ -4,14 +4,16 @@
 //! error that quotes the attribute and says what it takes, e.g.
 //! `tolerance="fine": must be a number of pixels in [0.01, 1000]`.
 //!
-//! `value` is `None` for an attribute that is absent (or was removed): the setting's default.
+//! `value` is `None` for an attribute that is absent (or was removed): the setting's default
+//! ([`Settings::default`]; the first clip, a threshold of 0.5 px, 400 instances), so removing an
+//! attribute puts back what an element without it shows.
 
 use super::read::Names;
 use super::viewer_state::ViewerMode;
 use crate::render::crowd::MAX_INSTANCES;
 use crate::render::plan::{BlendVariant, Method};
 use crate::render::viewer::preset::Preset;
-use crate::render::viewer::settings::Update;
+use crate::render::viewer::settings::{Settings, Update};
 
 /// The attributes [`attribute_update`] reads, in the order the element applies them (the preset
 /// first: an explicit `tolerance` then overrides its threshold).
@@ -50,7 +52,8 @@ pub fn attribute_update(name: &str, value: Option<&str>, clips: &[String]) -> Re
         }
         "clip" => {
             u.clip = Some(match value {
-                None => None,
+                // The first clip, or the rest pose for a character without one.
+                None => Settings::default().clip.filter(|&c| c < clips.len()),
                 Some(v) => Some(clips.iter().position(|c| c == v).ok_or_else(|| {
                     let names: Vec<String> = clips.iter().map(|c| format!("{c:?}")).collect();
                     match names.is_empty() {
@@ -88,8 +91,13 @@ pub fn attribute_update(name: &str, value: Option<&str>, clips: &[String]) -> Re
             u.variant = Some(BlendVariant::named(v).ok_or_else(|| wrong(&names::<BlendVariant>()))?);
         }
         "tolerance" => {
-            let t = value.and_then(|v| v.trim().parse::<f64>().ok()).filter(|t| (0.01..=1000.0).contains(t));
-            u.tolerance = Some(t.ok_or_else(|| wrong("a number of pixels in [0.01, 1000]"))? as f32);
+            u.tolerance = Some(match value {
+                None => Settings::default().tolerance_px,
+                Some(v) => {
+                    let t = v.trim().parse::<f64>().ok().filter(|t| (0.01..=1000.0).contains(t));
+                    t.ok_or_else(|| wrong("a number of pixels in [0.01, 1000]"))? as f32
+                }
+            });
         }
         "mode" => {
             let v = value.unwrap_or(ViewerMode::Single.name());
@@ -97,10 +105,14 @@ pub fn attribute_update(name: &str, value: Option<&str>, clips: &[String]) -> Re
                 Some(ViewerMode::named(v).ok_or_else(|| wrong(&names::<ViewerMode>()))? == ViewerMode::Crowd);
         }
         "count" => {
-            let n = value.and_then(|v| v.trim().parse::<f64>().ok());
-            let n = n.filter(|n| n.fract() == 0.0 && (1.0..=MAX_INSTANCES as f64).contains(n));
-            u.crowd_count =
-                Some(n.ok_or_else(|| wrong(&format!("a whole number in [1, {MAX_INSTANCES}]")))? as usize);
+            u.crowd_count = Some(match value {
+                None => Settings::default().crowd_count,
+                Some(v) => {
+                    let n = v.trim().parse::<f64>().ok();
+                    let n = n.filter(|n| n.fract() == 0.0 && (1.0..=MAX_INSTANCES as f64).contains(n));
+                    n.ok_or_else(|| wrong(&format!("a whole number in [1, {MAX_INSTANCES}]")))? as usize
+                }
+            });
         }
         _ => {
             return Err(format!(
@@ -134,7 +146,9 @@ mod tests {
         assert_eq!(u("autoplay", Some("")).paused, Some(false));
         assert_eq!(u("autoplay", None).paused, Some(true));
         assert_eq!(u("clip", Some("Wave")).clip, Some(Some(1)));
-        assert_eq!(u("clip", None).clip, Some(None));
+        // Removed: the first clip, as without the attribute; the rest pose without clips.
+        assert_eq!(u("clip", None).clip, Some(Some(0)));
+        assert_eq!(attribute_update("clip", None, &[]).unwrap().clip, Some(None));
         assert_eq!(
             u("modes", Some("morph, Pop")).methods,
             Some(([Method::Geomorph, Method::Popping, Method::Popping], 2))
@@ -144,6 +158,9 @@ mod tests {
         assert_eq!(u("tolerance", Some(" 4 ")).tolerance, Some(4.0));
         assert_eq!(u("mode", Some("crowd")).crowd, Some(true));
         assert_eq!(u("count", Some("12")).crowd_count, Some(12));
+        // Removed: the defaults, not an error.
+        assert_eq!(u("tolerance", None).tolerance, Some(0.5));
+        assert_eq!(u("count", None).crowd_count, Some(400));
         assert_eq!(u("preset", Some("demonstration")).preset, Some(Preset::Demonstration));
         assert_eq!(u("preset", None).preset, Some(Preset::Realistic));
     }

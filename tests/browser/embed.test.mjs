@@ -131,7 +131,7 @@ for (const [site, base] of SITES) {
     assert.ok(text.split(/\n\s*\n/).length >= 2 && /geomorph/i.test(text));
   });
 
-  test(`${site}: progress events arrive in order and end at 1; play, pause and setTime drive the clock`, async (t) => {
+  test(`${site}: progress events arrive in order and end at 1; play, pause and setTime drive the clock; a removed attribute is its default again`, async (t) => {
     const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
     await waitLoaded(page, 'walk');
     const progressEvents = (await events(page, 'walk')).filter((e) => e.type === 'progress');
@@ -160,6 +160,21 @@ for (const [site, base] of SITES) {
     });
     assert.ok(Math.abs(clock.paused - 0.75) < 1e-6);
     assert.ok(clock.t1 > clock.t0, `the clock did not run after play(): ${JSON.stringify(clock)}`);
+    // Removing an attribute puts back what an element without it shows, and is no error (it was
+    // an `attribute` error for tolerance and count, and the rest pose for clip).
+    const removed = await page.evaluate(() => {
+      const el = document.getElementById('walk');
+      const errors = [];
+      el.addEventListener('error', (e) => errors.push(e.detail));
+      el.setAttribute('tolerance', '3');
+      el.setAttribute('count', '12');
+      el.setAttribute('clip', 'Wave');
+      const set = el.state();
+      for (const name of ['tolerance', 'count', 'clip']) el.removeAttribute(name);
+      const s = el.state();
+      return { errors, set: [set.preset.tolerancePx, set.clips[set.clip]], removed: [s.preset.tolerancePx, s.clips[s.clip]] };
+    });
+    assert.deepEqual(removed, { errors: [], set: [3, 'Wave'], removed: [0.5, 'Walk'] });
   });
 
   test(`${site}: an element scrolled off screen stops drawing`, async (t) => {
