@@ -331,14 +331,20 @@ export type ErrorCode = 'fetch' | 'model' | 'levels' | 'no-gpu' | 'wasm' | 'attr
 export interface ClodViewerEventMap {
   progress: CustomEvent<{ phase: 'fetch' | 'gpu' | 'build' | 'ready'; fraction: number }>;
   /** The full mesh is drawn from now on. */
-  load: CustomEvent<ViewerState>;
-  /** The levels are attached (`lodFrom` 'build' or 'cache'). */
+  load: CustomEvent<LoadedState>;
+  /** The levels are attached (`lodFrom` 'build', 'cache' or 'inline'). */
   lod: CustomEvent<ViewerState>;
   /** A real failure, once each: `code` says which kind (see `ErrorCode`), `message` what happened. */
   error: CustomEvent<{ code: ErrorCode; message: string }>;
   /** The live meter measured a transition. */
   meter: CustomEvent<{ popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null }>;
+  /** A drag, wheel, touch or key moved the camera (`state()` has it). */
   camerachange: CustomEvent<undefined>;
+}
+
+/** The state `load` fires and `load()` resolves with: the viewer's state and the file's name. */
+export interface LoadedState extends ViewerState {
+  name: string;
 }
 
 /** `<clod-viewer src clip modes variant tolerance backend autoplay loading mode count preset manual-frames>`. */
@@ -384,7 +390,7 @@ export class ClodViewerElement extends HTMLElement {
    * methods, variant, speed, distance and dolly period, magnifier, overlay, meter, FLIP, crowd,
    * morphs; not the clip, whether it plays, or the orbit); on failure the previous one keeps
    * playing. */
-  load(source: ModelSource): Promise<ViewerState>;
+  load(source: ModelSource): Promise<LoadedState>;
   addEventListener<K extends keyof ClodViewerEventMap>(
     type: K,
     listener: (this: ClodViewerElement, event: ClodViewerEventMap[K]) => unknown,

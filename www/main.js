@@ -125,7 +125,7 @@ const PRESET_WORDS = {
   tolerance: (v) => `a ${v} px threshold`,
   magnify: (v) => (v > 1 ? `magnified ×${v}` : 'real size'),
   transitionSpeed: (v) => (v < 1 ? `transitions slowed to ×${v}` : 'real-time transitions'),
-  dollyPeriod: (v) => `a ${v} s dolly`,
+  dollyPeriod: (v) => `a dolly of ${v} s`,
 };
 
 // Says which settings are in force and what the demonstration exaggerates (the values come from
