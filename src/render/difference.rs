@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 
 /// The difference overlay shader: `vs_difference` and `fs_difference`.
-pub const DIFFERENCE_WGSL: &str = include_str!("difference.wgsl");
+pub const DIFFERENCE_WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/difference.wgsl"));
 
 /// `Area` in `difference.wgsl`: the view's rectangle in its target's pixels.
 #[repr(C)]

@@ -26,7 +26,7 @@ use bytemuck::{Pod, Zeroable};
 pub const DEFAULT_PPD: f32 = 0.7 * (3840.0 / 0.7) * (std::f32::consts::PI / 180.0);
 
 /// The FLIP shader: `vs_flip`, `fs_horizontal` (per picture) and `fs_error` (per pair).
-pub const FLIP_WGSL: &str = include_str!("flip.wgsl");
+pub const FLIP_WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/flip.wgsl"));
 
 /// Taps the GPU kernels hold at most per side (`2 * MAX_RADIUS + 1` in all): a spatial radius of
 /// 15 is 111 ppd, a feature radius of 15 is 122 ppd.

@@ -8,7 +8,7 @@
 //! and OpenGL define them.
 
 /// The mipmap shader: `vs_mip` and `fs_mip`.
-pub const MIPMAP_WGSL: &str = include_str!("mipmap.wgsl");
+pub const MIPMAP_WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/mipmap.wgsl"));
 
 /// Number of mip levels of a `width` × `height` texture, down to 1×1: `⌊log₂ max(w, h)⌋ + 1`
 /// (1 for a 1×1 or empty texture).

@@ -7,12 +7,16 @@ use bytemuck::{Pod, Zeroable};
 
 pub use crate::morph::MAX_MORPH_TARGETS;
 
-/// The skinning shader, validated by `tests/shaders.rs`.
-pub const SKIN_WGSL: &str = include_str!("skin.wgsl");
+/// The skinning shader (`skin.wgsl` without its comments, see `build.rs`), validated by
+/// `tests/shaders.rs`.
+pub const SKIN_WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/skin.wgsl"));
 
 /// The crowd's shader: `skin.wgsl` with `crowd.wgsl`'s instanced entry points appended (they
 /// share its bindings, vertex layouts and fragment shading); validated by `tests/shaders.rs`.
-pub const CROWD_WGSL: &str = concat!(include_str!("skin.wgsl"), include_str!("crowd.wgsl"));
+pub const CROWD_WGSL: &str = concat!(
+    include_str!(concat!(env!("OUT_DIR"), "/skin.wgsl")),
+    include_str!(concat!(env!("OUT_DIR"), "/crowd.wgsl"))
+);
 
 /// `Camera` in `skin.wgsl`: one per frame, shared by the three views.
 #[repr(C)]
