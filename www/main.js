@@ -504,6 +504,10 @@ function writeUrl() {
     if (s.distanceMode === 'manual') next.set('distance', s.distance.toFixed(2));
     if (s.continuousTriangles) next.set('lod', s.continuousTriangles);
     if (s.crowd) next.set('crowd', s.crowd.instances);
+    // Off both presets (a control moved), the threshold in force; the blend variant if not the
+    // default. Both are read back as the element's attributes of those names.
+    if (s.preset.name === null) next.set('tolerance', s.preset.values.find((v) => v.key === 'tolerance').value);
+    if (s.variant !== 'opaque-first') next.set('variant', s.variant);
     // The demonstration is the page's default: only the realistic preset is written.
     if (s.preset.name === 'realistic' && !testMode) next.set('settings', 'realistic');
     else if (s.preset.name === 'demonstration' && testMode) next.set('settings', 'demonstration');

@@ -238,18 +238,20 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
   });
 }
 
-test('the URL carries model, clip, t and mode, and a shared link opens that view', async () => {
-  const page = await openPage(browser, { clip: 'Wave', t: '1.25', mode: 'pop+morph' });
+test('the URL carries model, clip, t, mode, threshold and variant, and a shared link opens that view', async () => {
+  const page = await openPage(browser, { clip: 'Wave', t: '1.25', mode: 'pop+morph', tolerance: '1.5', variant: 'dither' });
   const state = await frame(page, 1000);
   assert.equal(state.clips[state.clip], 'Wave');
   assert.equal(state.paused, true);
   assert.ok(Math.abs(state.animTime - 1.25) < 1e-3, `animTime ${state.animTime}`);
   assert.deepEqual(state.views.map((v) => v.method), ['popping', 'geomorph']);
+  assert.deepEqual([state.preset.name, state.preset.tolerancePx, state.variant], [null, 1.5, 'dither']);
   await page.locator('#speed').fill('0.5');
   await page.waitForFunction(() => new URLSearchParams(location.search).get('t') !== null && location.search.includes('clip=Wave'));
   const search = new URLSearchParams(await page.evaluate(() => location.search));
   assert.equal(search.get('clip'), 'Wave');
   assert.equal(search.get('mode'), 'pop+morph');
+  assert.deepEqual([search.get('tolerance'), search.get('variant')], ['1.5', 'dither']);
 });
 
 test('the screenshot button saves a PNG of the three views', async () => {
