@@ -85,7 +85,7 @@ export const ERROR_CODES = {
   model: 'the file cannot be shown: the importer refused it, a .gltf resource is missing, or it exceeds this GPU\'s limits',
   levels: 'the LOD levels could not be built or attached; the full mesh keeps playing',
   'no-gpu': 'the browser gives the canvas neither WebGPU nor WebGL2',
-  wasm: 'the viewer\'s own files (pkg/, pkg-webgl/) could not be loaded',
+  wasm: 'the viewer\'s own files (pkg/, pkg-webgl/, or pkg-draco/ for a Draco file) could not be loaded',
   attribute: 'an attribute holds a value the viewer does not take',
   render: 'the GPU reported an error while drawing',
 };
