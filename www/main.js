@@ -375,7 +375,7 @@ function showStats() {
     rows.push(['FLIP', s.meter.flip
       ? `LDR-FLIP against full detail, mean per view at ${s.meter.flip.ppd.toFixed(1)} px per degree (the meter's picture when the view is seen at 67 px per degree): ${s.views.map((v, i) => `${v.method} ${(s.meter.flip.views[i] ?? 0).toFixed(4)}`).join(' · ')}`
       : !s.meter.flipOn ? 'off'
-        : s.crowd ? 'not measured in crowd mode (the crowd meter compares silhouettes)'
+        : s.crowd ? 'not measured in crowd mode (the crowd meter compares silhouettes and shading)'
           : 'not measured (this GPU cannot render into float targets, or nothing to compare yet)']);
   }
   drawMeterChart();
