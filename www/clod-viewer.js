@@ -578,7 +578,9 @@ export class ClodViewerElement extends HTMLElement {
 
   #tick(now) {
     this.#frameId = 0;
-    if (!this.#viewer || !this.#visible || !this.isConnected) return;
+    // A frame asked for before the viewer broke (a lost context's event arrives between frames)
+    // is not drawn.
+    if (!this.#viewer || this.#broken || !this.#visible || !this.isConnected) return;
     if (this.#lastFrameMs) this.#frameMs += 0.1 * (now - this.#lastFrameMs - this.#frameMs);
     this.#lastFrameMs = now;
     try {
