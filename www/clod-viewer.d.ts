@@ -363,6 +363,12 @@ export class ClodViewerElement extends HTMLElement {
   setTime(seconds: number): void;
   setState(settings: ViewerSettings): void;
   state(): ViewerState;
+  /** The settings as a link carries them: the preset it names and the `[key, value]` pairs
+   * (`setState`'s keys, values as text) that differ from it. */
+  link(): { preset: 'demonstration' | 'realistic'; pairs: [string, string][] };
+  /** Applies a link's `[key, value]` pairs, each on its own, after its preset; keys that are
+   * not a link's are left alone. Returns a message for each pair whose value was not taken. */
+  applyLink(pairs: [string, string][]): string[];
   meter(): { popping: MethodPop | null; alpha: MethodPop | null; geomorph: MethodPop | null };
   meterHistory(): MeterHistory;
   /** The last transition's replay, or null before one completed. */

@@ -23,7 +23,7 @@
 // "cache"; the chain bytes are kept in IndexedDB, keyed by the file's SHA-256), `error` (detail
 // `{ code, message }`, once per failure; `code` is one of ERROR_CODES), `meter` (detail: `meter()`,
 // when the live meter has measured a transition).
-// Methods: play(), pause(), setTime(seconds), setState({...}), state(), meter(), meterHistory(),
+// Methods: play(), pause(), setTime(seconds), setState({...}), state(), link(), applyLink(pairs), meter(), meterHistory(),
 // load({ name, bytes, resources }), readPixels(), screenshot(), measurePopSpike(), textureLevels(i),
 // flipImages(reference, test, width, height, ppd).
 
@@ -215,6 +215,21 @@ export class ClodViewerElement extends HTMLElement {
    * reason: they were ignored, the rest applied.
    */
   get ignoredSettings() { return this.#ignored; }
+  /**
+   * The settings as a link carries them: `{ preset, pairs }`, the preset a link names and the
+   * `[key, value]` pairs (setState's keys) that differ from it. See docs/viewer.md, "Links".
+   */
+  link() { return this.#requireViewer().link(); }
+  /**
+   * Applies a link's `[key, value]` pairs (e.g. `[...new URLSearchParams(location.search)]`),
+   * each on its own, after its preset; other keys are left alone. Returns a message for each
+   * pair whose value was not taken.
+   */
+  applyLink(pairs) {
+    const ignored = this.#requireViewer().applyLink(pairs);
+    this.#schedule();
+    return ignored;
+  }
   /** Draws one frame at `nowMs` (for `manual-frames`) and returns the state. */
   renderFrame(nowMs) { this.#requireViewer().frame(nowMs); return this.#updateLabels(); }
   /** The current frame read back: `{ width, height, data }` (RGBA8, top row first). */

@@ -4,10 +4,11 @@
 // saves screenshots.
 //
 // URL parameters: model (a .glb URL), clip, t (animation seconds; the page starts paused there),
-// mode (the views' methods, e.g. `pop+blend+morph`), backend (webgpu | webgl2), variant,
-// tolerance, distance (× framing; turns the dolly off), lod (continuous triangle count), settings
-// (`realistic`: the engine's defaults; absent or `demonstration`: the exaggerated demonstration the
-// page opens with, see `state().preset`); test=1 draws only on request, starts on the realistic
+// mode (the views' methods, e.g. `pop+morph`), backend (webgpu | webgl2), distance (× framing;
+// turns the dolly off), lod (continuous triangle count), crowd (instances), settings (`realistic`:
+// the engine's defaults; absent or `demonstration`: the exaggerated demonstration the page opens
+// with, see `state().preset`), and the settings moved off that preset under setState's keys
+// (`viewer.link()`, docs/viewer.md); test=1 draws only on request, starts on the realistic
 // settings unless `settings` says otherwise, and exposes window.__clod for the browser tests.
 
 const params = new URLSearchParams(location.search);
@@ -30,13 +31,12 @@ let deferredLod = null;
 
 if (testMode) viewer.setAttribute('manual-frames', '');
 // The page opens on the demonstration; the tests' pages on the realistic defaults they measure.
-const preset = params.get('settings') ?? (testMode ? 'realistic' : 'demonstration');
+const pagePreset = testMode ? 'realistic' : 'demonstration';
+const preset = params.get('settings') ?? pagePreset;
 viewer.setAttribute('preset', preset === 'realistic' ? 'realistic' : 'demonstration');
 if (params.get('backend')) viewer.setAttribute('backend', params.get('backend'));
 if (params.get('mode')) viewer.setAttribute('modes', params.get('mode'));
 if (params.get('clip')) viewer.setAttribute('clip', params.get('clip'));
-if (params.get('variant')) viewer.setAttribute('variant', params.get('variant'));
-if (params.get('tolerance')) viewer.setAttribute('tolerance', params.get('tolerance'));
 if (params.has('t') || testMode) viewer.removeAttribute('autoplay');
 if (params.get('model')) viewer.setAttribute('src', params.get('model'));
 if (params.get('crowd')) { viewer.setAttribute('mode', 'crowd'); viewer.setAttribute('count', params.get('crowd')); }
@@ -96,7 +96,8 @@ function applyUrlState() {
     if (viewer.state().lodFrom) updates.push(['lod', { continuousTriangles: Number(params.get('lod')) }]);
     else deferredLod = Number(params.get('lod'));
   }
-  const ignored = [...(viewer.ignoredSettings ?? [])];
+  // The settings the link carries (threshold, magnifier, speeds, overlay, meter, camera, …).
+  const ignored = [...(viewer.ignoredSettings ?? []), ...viewer.applyLink([...params])];
   for (const [name, state] of updates) {
     try { viewer.setState(state); } catch (e) { ignored.push(`${name}: ${e.message}`); }
   }
@@ -504,13 +505,10 @@ function writeUrl() {
     if (s.distanceMode === 'manual') next.set('distance', s.distance.toFixed(2));
     if (s.continuousTriangles) next.set('lod', s.continuousTriangles);
     if (s.crowd) next.set('crowd', s.crowd.instances);
-    // Off both presets (a control moved), the threshold in force; the blend variant if not the
-    // default. Both are read back as the element's attributes of those names.
-    if (s.preset.name === null) next.set('tolerance', s.preset.values.find((v) => v.key === 'tolerance').value);
-    if (s.variant !== 'opaque-first') next.set('variant', s.variant);
-    // The demonstration is the page's default: only the realistic preset is written.
-    if (s.preset.name === 'realistic' && !testMode) next.set('settings', 'realistic');
-    else if (s.preset.name === 'demonstration' && testMode) next.set('settings', 'demonstration');
+    // The preset, unless it is the page's default, and the settings that differ from it.
+    const link = viewer.link();
+    if (link.preset !== pagePreset) next.set('settings', link.preset);
+    for (const [key, value] of link.pairs) next.set(key, value);
     if (testMode) next.set('test', '1');
     history.replaceState(null, '', `?${next.toString().replaceAll('%2B', '+')}`);
   }, 300);

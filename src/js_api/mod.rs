@@ -6,6 +6,7 @@
 
 pub mod attributes;
 pub mod build_options;
+pub mod link;
 pub mod read;
 #[cfg(test)]
 mod samples;

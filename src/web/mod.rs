@@ -14,6 +14,7 @@
 //! `resize` are queued and applied at the next frame, `frame` draws nothing, `state` returns the
 //! last state read, and the other asynchronous calls wait their turn.
 
+mod link;
 mod pop_spike;
 mod replay;
 mod state;
@@ -314,14 +315,7 @@ impl Viewer {
     /// `previous`. Before this viewer's first frame: it starts at rest at the level they select.
     #[wasm_bindgen(js_name = keepSettingsOf)]
     pub fn keep_settings_of(&self, previous: &Viewer) {
-        let settings = {
-            let queue = previous.queue.borrow();
-            let mut settings = queue.settings.clone();
-            for update in &queue.updates {
-                update.apply(&mut settings);
-            }
-            settings
-        };
+        let settings = previous.settings_now();
         // A new viewer is not busy: nothing has been asked of it yet.
         if let Some(mut inner) = self.lock() {
             inner.model.keep_settings_from(&settings);
@@ -534,6 +528,14 @@ impl Viewer {
             }
             Err(_) => self.queue.borrow_mut().updates.push(update),
         }
+    }
+
+    /// The settings with the changes queued while a measurement holds the viewer applied.
+    fn settings_now(&self) -> Settings {
+        let queue = self.queue.borrow();
+        let mut settings = queue.settings.clone();
+        queue.updates.iter().for_each(|update| update.apply(&mut settings));
+        settings
     }
 
     /// The viewer with the calls queued while it was busy applied, or `None` while busy.

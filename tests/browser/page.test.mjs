@@ -238,7 +238,7 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
   });
 }
 
-test('the URL carries model, clip, t, mode, threshold and variant, and a shared link opens that view', async () => {
+test('the URL carries model, clip, t, mode and every setting moved off the preset, and a shared link opens that view', async () => {
   const page = await openPage(browser, { clip: 'Wave', t: '1.25', mode: 'pop+morph', tolerance: '1.5', variant: 'dither' });
   const state = await frame(page, 1000);
   assert.equal(state.clips[state.clip], 'Wave');
@@ -246,12 +246,31 @@ test('the URL carries model, clip, t, mode, threshold and variant, and a shared 
   assert.ok(Math.abs(state.animTime - 1.25) < 1e-3, `animTime ${state.animTime}`);
   assert.deepEqual(state.views.map((v) => v.method), ['popping', 'geomorph']);
   assert.deepEqual([state.preset.name, state.preset.tolerancePx, state.variant], [null, 1.5, 'dither']);
+  // The reader moves controls and the camera: each is in the link.
   await page.locator('#speed').fill('0.5');
-  await page.waitForFunction(() => new URLSearchParams(location.search).get('t') !== null && location.search.includes('clip=Wave'));
-  const search = new URLSearchParams(await page.evaluate(() => location.search));
+  await page.selectOption('#magnify', '4');
+  await page.selectOption('#overlay', 'wireframe');
+  await page.locator('#flip-on').uncheck();
+  await page.locator('#viewer canvas').focus();
+  await page.keyboard.press('ArrowLeft');
+  await page.keyboard.press('Shift+ArrowUp');
+  await page.waitForFunction(() => ['overlay', 'flip', 'yaw', 'pan'].every((k) => new URLSearchParams(location.search).has(k)));
+  const raw = await page.evaluate(() => location.search);
+  const search = new URLSearchParams(raw);
   assert.equal(search.get('clip'), 'Wave');
-  assert.equal(search.get('mode'), 'pop+morph');
-  assert.deepEqual([search.get('tolerance'), search.get('variant')], ['1.5', 'dither']);
+  assert.match(raw, /[?&]mode=pop\+morph(&|$)/, 'the methods as written, a + reading as a space');
+  assert.equal(search.get('settings'), null, 'the page\'s own preset is not written');
+  assert.deepEqual(['tolerance', 'variant', 'speed', 'magnify', 'overlay', 'flip'].map((k) => search.get(k)), ['1.5', 'dither', '0.5', '4', 'wireframe', 'false']);
+  // Opened elsewhere, the link shows the same settings.
+  const shared = await openPage(browser, Object.fromEntries([...search].filter(([k]) => k !== 'test')));
+  const a = await frame(page, 1100);
+  const b = await frame(shared, 1100);
+  const settings = (s) => ({
+    clip: s.clip, animTime: s.animTime.toFixed(2), methods: s.views.map((v) => v.method), preset: s.preset, variant: s.variant,
+    speed: s.speed, magnify: s.magnify, overlay: s.overlay, flip: s.meter.flipOn, yaw: s.yaw, pitch: s.pitch, pan: s.pan,
+  });
+  assert.deepEqual(settings(b), settings(a));
+  assert.equal(await shared.evaluate(() => document.getElementById('status').textContent.includes('Ignored')), false);
 });
 
 test('the screenshot button saves a PNG of the three views', async () => {

@@ -23,6 +23,11 @@ if (viewer) {
   void viewer.readPixels().then(({ width, height, data }) => console.log(width * height * 4 === data.length));
   void viewer.screenshot().then((png) => png.size);
   void viewer.load({ name: 'hero.gltf', bytes: new Uint8Array(), resources: new Map([['hero.bin', new Uint8Array()]]) });
+  // The reader's settings kept in the page's own URL, and read back.
+  const { preset, pairs } = viewer.link();
+  history.replaceState(null, '', `?${new URLSearchParams([['settings', preset], ...pairs])}`);
+  const ignored: string[] = viewer.applyLink(pairs);
+  console.log(ignored.join('; '));
 }
 // The tag's type comes from HTMLElementTagNameMap.
 const created = document.createElement('clod-viewer');
