@@ -20,6 +20,7 @@
 import { execFileSync } from 'node:child_process';
 import { MeshoptSimplifier } from 'meshoptimizer';
 import { api } from '../tests/js/models.mjs';
+import { FRACTIONS, meshoptAttributeChain, meshoptLevels } from './meshopt-chains.mjs';
 import { meshoptAttributeInput, weldByPosition } from './meshopt-input.mjs';
 import { loadModel, modelPaths } from './models.mjs';
 
@@ -33,50 +34,11 @@ const modelArgs = argv.filter((a, i) => !a.startsWith('--') && !valued.has(i));
 const SAMPLES = Number(args.samples ?? 20000);
 const FRAMES = Number(args.frames ?? 6);
 const SEED = 12345;
-const FRACTIONS = [0.5, 0.25, 0.1, 0.05, 0.01];
 
 await MeshoptSimplifier.ready;
 
 const now = () => performance.now();
 const pct = (d, diag) => (100 * d / diag).toFixed(3);
-
-function meshoptLevels(indices, positions, counts, chained) {
-  const levels = [];
-  let source = indices;
-  for (const triangles of counts) {
-    // target_error 1 (the whole model's extent) lets the target count decide, as ours does.
-    const [out] = MeshoptSimplifier.simplify(chained ? source : indices, positions, 3, triangles * 3, 1.0, []);
-    levels.push(out);
-    if (chained) source = out;
-  }
-  return levels;
-}
-
-/**
- * meshoptimizer doing the job ours does: the file's vertices (so attribute seams are kept), normals and uv
- * priced (weight 1 each, the docs' advice for unit-range attributes; see `meshoptAttributeInput`), as a chain. `update` uses
- * `simplifyWithUpdate`, which moves vertices and their attributes to better places as our full collapses
- * do, and copies each level's vertex data out (the next level overwrites it); otherwise
- * `simplifyWithAttributes`, which keeps a subset of the input vertices as our half-edge mode does.
- */
-function meshoptAttributeChain({ indices, positions, attributes, stride, weights }, counts, update) {
-  const levels = [];
-  let source = indices;
-  const moved = update ? positions.slice() : positions;
-  const movedAttributes = update ? attributes.slice() : attributes;
-  for (const triangles of counts) {
-    if (update) {
-      const working = source.slice();
-      const [count] = MeshoptSimplifier.simplifyWithUpdate(working, moved, 3, movedAttributes, stride, weights, null, triangles * 3, 1.0);
-      source = working.subarray(0, count);
-      levels.push({ indices: source, positions: moved.slice(), attributes: movedAttributes.slice() });
-    } else {
-      [source] = MeshoptSimplifier.simplifyWithAttributes(source, positions, 3, attributes, stride, weights, null, triangles * 3, 1.0);
-      levels.push(source);
-    }
-  }
-  return levels;
-}
 
 /**
  * Best time of `fn`: at least `minRuns` runs and as many as fit in `budgetMs`. The machine is shared,

@@ -8,7 +8,8 @@
 //   node bench/scaling.mjs [--details 0.125,0.25,1,2,4,16] [--runs N]
 //
 // Prints one row per size and the time per triangle relative to the built-in character's
-// (detail 1), measured in the same run.
+// (detail 1), measured in the same run; and the same for meshoptimizer's `simplify` and
+// `simplifyWithUpdate` chains of each file (bench/meshopt-chains.mjs), timed in the same process.
 
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
@@ -22,27 +23,42 @@ const option = (name, fallback) => {
 };
 
 if (args[0] === '--one') {
-  // Child: one build of one file, printed as JSON.
+  // Child: one build of one file, and meshoptimizer's chains of it, printed as JSON.
   const { api } = await import('../tests/js/models.mjs');
+  const { loadModel } = await import('./models.mjs');
+  const { FRACTIONS, meshoptAttributeChain, meshoptLevels } = await import('./meshopt-chains.mjs');
+  const { meshoptAttributeInput, weldByPosition } = await import('./meshopt-input.mjs');
   const bytes = new Uint8Array(readFileSync(args[1]));
   const runs = Number(args[2]);
-  const character = api.Character.fromGlb(bytes);
-  let best = Infinity;
+  const { character, json } = loadModel(args[1]);
+  const best = (fn) => {
+    let ms = Infinity;
+    for (let r = 0; r < runs; r++) {
+      const started = performance.now();
+      fn();
+      ms = Math.min(ms, performance.now() - started);
+    }
+    return ms;
+  };
   let chainBytes = 0;
   let reports = 0;
-  for (let r = 0; r < runs; r++) {
-    const started = performance.now();
-    const chain = character.buildClodBytes({}, () => { reports += 1; });
-    best = Math.min(best, performance.now() - started);
-    chainBytes = chain.length;
-  }
+  const ms = best(() => { chainBytes = character.buildClodBytes({}, () => { reports += 1; }).length; });
+  const memoryBytes = api.wasmMemoryBytes();
+  // The peer, in the same process: its chains to the benchmark's counts (bench/meshopt-chains.mjs).
+  const counts = FRACTIONS.map((f) => Math.max(1, Math.round(character.triangleCount * f)));
+  const welded = weldByPosition(character.indices(), character.bindPositions());
+  const input = meshoptAttributeInput(character, json);
+  const simplifyMs = best(() => meshoptLevels(welded.indices, welded.positions, counts, true));
+  const updateMs = best(() => meshoptAttributeChain(input, counts, true));
   console.log(JSON.stringify({
     triangles: character.triangleCount,
-    ms: best,
+    ms,
+    simplifyMs,
+    updateMs,
     glbBytes: bytes.length,
     chainBytes,
     progressReports: reports / runs,
-    memoryBytes: api.wasmMemoryBytes(),
+    memoryBytes,
   }));
   process.exit(0);
 }
@@ -62,11 +78,12 @@ for (const detail of details) {
   rows.push({ detail, ...JSON.parse(out.trim().split('\n').pop()) });
 }
 const reference = rows.find((r) => r.detail === 1) ?? rows[0];
-const perTriangle = (r) => (1000 * r.ms) / r.triangles;
-console.log('| triangles | build (ms) | µs / triangle | × the 51k character\'s | chain / .glb | wasm memory (MB) | progress reports |');
-console.log('|---|---|---|---|---|---|---|');
+// Time per input triangle of `key`'s build, × the reference size's.
+const growth = (r, key) => ((r[key] / r.triangles) / (reference[key] / reference.triangles)).toFixed(2);
+console.log('| triangles | build (ms) | µs / triangle | × the 51k character\'s | meshoptimizer per triangle, × its 51k: `simplify` chain, `simplifyWithUpdate` chain | chain / .glb | wasm memory (MB) | progress reports |');
+console.log('|---|---|---|---|---|---|---|---|');
 for (const r of rows) {
-  console.log(`| ${r.triangles.toLocaleString('en')} | ${r.ms.toFixed(0)} | ${perTriangle(r).toFixed(2)} | ` +
-    `${(perTriangle(r) / perTriangle(reference)).toFixed(2)} | ${(r.chainBytes / r.glbBytes).toFixed(2)} | ` +
+  console.log(`| ${r.triangles.toLocaleString('en')} | ${r.ms.toFixed(0)} | ${((1000 * r.ms) / r.triangles).toFixed(2)} | ` +
+    `${growth(r, 'ms')} | ${growth(r, 'simplifyMs')}, ${growth(r, 'updateMs')} | ${(r.chainBytes / r.glbBytes).toFixed(2)} | ` +
     `${(r.memoryBytes / 2 ** 20).toFixed(0)} | ${r.progressReports} |`);
 }
