@@ -180,7 +180,7 @@ export class ClodViewerElement extends HTMLElement {
     try {
       // The viewer reads the attribute (src/js_api/attributes.rs); a value it does not take
       // throws a sentence quoting it.
-      this.#viewer.applyAttribute(name, value);
+      this.#viewer.applyAttribute(name, value, this.getAttribute('preset'));
       this.#schedule();
     } catch (e) {
       this.#fail(coded(e, 'attribute'));
@@ -520,7 +520,7 @@ export class ClodViewerElement extends HTMLElement {
     const ignored = [];
     for (const name of SETTING_ATTRIBUTES) {
       if (name !== 'autoplay' && !this.hasAttribute(name)) continue;
-      try { viewer.applyAttribute(name, this.getAttribute(name)); } catch (e) { ignored.push(e.message ?? String(e)); }
+      try { viewer.applyAttribute(name, this.getAttribute(name), this.getAttribute('preset')); } catch (e) { ignored.push(e.message ?? String(e)); }
     }
     this.#ignored = ignored;
     // Another model in the same viewer keeps what the reader chose for the comparison. It starts

@@ -5,8 +5,8 @@
 //! `tolerance="fine": must be a number of pixels in [0.01, 1000]`.
 //!
 //! `value` is `None` for an attribute that is absent (or was removed): the setting's default
-//! ([`Settings::default`]; the first clip, a threshold of 0.5 px, 400 instances), so removing an
-//! attribute puts back what an element without it shows.
+//! ([`Settings::default`]; the first clip, 400 instances; the threshold of the element's preset),
+//! so removing an attribute puts back what an element without it shows.
 
 use super::read::Names;
 use super::viewer_state::ViewerMode;
@@ -31,12 +31,19 @@ const MODE_WORDS: [(&str, &str); 6] = [
     ("geomorph", "geomorph"),
 ];
 
-/// The update attribute `name` set to `value` asks for, for a character with clips `clips`.
+/// The update attribute `name` set to `value` asks for, on an element whose `preset` attribute is
+/// `preset` (it decides the threshold a removed `tolerance` puts back), for a character with clips
+/// `clips`.
 ///
 /// # Errors
 /// A value the attribute does not take, or an attribute that is not one of
 /// [`SETTING_ATTRIBUTES`], in a sentence that quotes it.
-pub fn attribute_update(name: &str, value: Option<&str>, clips: &[String]) -> Result<Update, String> {
+pub fn attribute_update(
+    name: &str,
+    value: Option<&str>,
+    preset: Option<&str>,
+    clips: &[String],
+) -> Result<Update, String> {
     let quoted = match value {
         Some(v) => format!("{name}={v:?}"),
         None => name.to_string(),
@@ -90,15 +97,15 @@ pub fn attribute_update(name: &str, value: Option<&str>, clips: &[String]) -> Re
             let v = value.unwrap_or(BlendVariant::OpaqueFirst.name());
             u.variant = Some(BlendVariant::named(v).ok_or_else(|| wrong(&names::<BlendVariant>()))?);
         }
-        "tolerance" => {
-            u.tolerance = Some(match value {
-                None => Settings::default().tolerance_px,
-                Some(v) => {
-                    let t = v.trim().parse::<f64>().ok().filter(|t| (0.01..=1000.0).contains(t));
-                    t.ok_or_else(|| wrong("a number of pixels in [0.01, 1000]"))? as f32
-                }
-            });
-        }
+        "tolerance" => match value {
+            // Removed: the threshold of the element's preset (the realistic one without a valid
+            // `preset`, which reports its own error), with its unit.
+            None => u.tolerance_of = Some(preset.and_then(Preset::named).unwrap_or(Preset::Realistic)),
+            Some(v) => {
+                let t = v.trim().parse::<f64>().ok().filter(|t| (0.01..=1000.0).contains(t));
+                u.tolerance = Some(t.ok_or_else(|| wrong("a number of pixels in [0.01, 1000]"))? as f32);
+            }
+        },
         "mode" => {
             let v = value.unwrap_or(ViewerMode::Single.name());
             u.crowd =
@@ -142,13 +149,13 @@ mod tests {
 
     #[test]
     fn attributes_become_updates() {
-        let u = |name, value| attribute_update(name, value, &clips()).unwrap();
+        let u = |name, value| attribute_update(name, value, None, &clips()).unwrap();
         assert_eq!(u("autoplay", Some("")).paused, Some(false));
         assert_eq!(u("autoplay", None).paused, Some(true));
         assert_eq!(u("clip", Some("Wave")).clip, Some(Some(1)));
         // Removed: the first clip, as without the attribute; the rest pose without clips.
         assert_eq!(u("clip", None).clip, Some(Some(0)));
-        assert_eq!(attribute_update("clip", None, &[]).unwrap().clip, Some(None));
+        assert_eq!(attribute_update("clip", None, None, &[]).unwrap().clip, Some(None));
         assert_eq!(
             u("modes", Some("morph, Pop")).methods,
             Some(([Method::Geomorph, Method::Popping, Method::Popping], 2))
@@ -159,7 +166,17 @@ mod tests {
         assert_eq!(u("mode", Some("crowd")).crowd, Some(true));
         assert_eq!(u("count", Some("12")).crowd_count, Some(12));
         // Removed: the defaults, not an error.
-        assert_eq!(u("tolerance", None).tolerance, Some(0.5));
+        // A removed threshold is the element's preset's, in its unit.
+        assert_eq!(u("tolerance", None).tolerance_of, Some(Preset::Realistic));
+        for (preset, height) in [("demonstration", Some(400.0)), ("realistic", None)] {
+            let mut s = Settings::default();
+            Preset::named(preset).unwrap().apply(&mut s);
+            attribute_update("tolerance", Some("3"), Some(preset), &clips()).unwrap().apply(&mut s);
+            assert_eq!((s.tolerance_px, s.tolerance_height), (3.0, None));
+            attribute_update("tolerance", None, Some(preset), &clips()).unwrap().apply(&mut s);
+            assert_eq!(Preset::of(&s), Preset::named(preset), "{preset}: {s:?}");
+            assert_eq!(s.tolerance_height, height);
+        }
         assert_eq!(u("count", None).crowd_count, Some(400));
         assert_eq!(u("preset", Some("demonstration")).preset, Some(Preset::Demonstration));
         assert_eq!(u("preset", None).preset, Some(Preset::Realistic));
@@ -185,8 +202,8 @@ mod tests {
             ("preset", "demo", r#"preset="demo": must be one of "demonstration", "realistic""#),
             ("clip", "Run", r#"clip="Run": no clip of that name; this character has "Walk", "Wave""#),
         ] {
-            assert_eq!(attribute_update(name, Some(value), &clips()).err().unwrap(), message);
+            assert_eq!(attribute_update(name, Some(value), None, &clips()).err().unwrap(), message);
         }
-        assert!(attribute_update("src", Some("a.glb"), &clips()).is_err());
+        assert!(attribute_update("src", Some("a.glb"), None, &clips()).is_err());
     }
 }

@@ -196,6 +196,7 @@ impl ViewerSettings {
             crowd_lod: self.crowd_lod.map(|b| b.0),
             morphs: self.morphs.map(|b| b.0),
             preset: self.preset.map(|p| p.0),
+            tolerance_of: None,
         })
     }
 }

@@ -324,15 +324,22 @@ impl Viewer {
     }
 
     /// Applies the `<clod-viewer>` attribute `name` with `value` (`null` or `undefined`: the
-    /// attribute is absent) as [`crate::js_api::attributes::attribute_update`] reads it.
+    /// attribute is absent) on an element whose `preset` attribute is `preset`, as
+    /// [`crate::js_api::attributes::attribute_update`] reads it.
     ///
     /// # Errors
     /// A sentence quoting the attribute and saying what it takes; nothing is changed then.
     #[wasm_bindgen(js_name = applyAttribute)]
-    pub fn apply_attribute(&self, name: &str, value: Option<String>) -> Result<(), JsError> {
+    pub fn apply_attribute(
+        &self,
+        name: &str,
+        value: Option<String>,
+        preset: Option<String>,
+    ) -> Result<(), JsError> {
         let clips = self.queue.borrow().clips.clone();
-        let update = crate::js_api::attributes::attribute_update(name, value.as_deref(), &clips)
-            .map_err(|e| JsError::new(&e))?;
+        let update =
+            crate::js_api::attributes::attribute_update(name, value.as_deref(), preset.as_deref(), &clips)
+                .map_err(|e| JsError::new(&e))?;
         self.push(update);
         Ok(())
     }

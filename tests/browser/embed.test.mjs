@@ -172,9 +172,17 @@ for (const [site, base] of SITES) {
       const set = el.state();
       for (const name of ['tolerance', 'count', 'clip']) el.removeAttribute(name);
       const s = el.state();
-      return { errors, set: [set.preset.tolerancePx, set.clips[set.clip]], removed: [s.preset.tolerancePx, s.clips[s.clip]] };
+      // On the demonstration, a removed threshold is the demonstration's again (per view height).
+      el.setAttribute('preset', 'demonstration');
+      el.setAttribute('tolerance', '3');
+      const own = el.state().preset.name;
+      el.removeAttribute('tolerance');
+      const demonstration = el.state().preset.name;
+      return {
+        errors, set: [set.preset.tolerancePx, set.clips[set.clip]], removed: [s.preset.tolerancePx, s.clips[s.clip]], presets: [own, demonstration],
+      };
     });
-    assert.deepEqual(removed, { errors: [], set: [3, 'Wave'], removed: [0.5, 'Walk'] });
+    assert.deepEqual(removed, { errors: [], set: [3, 'Wave'], removed: [0.5, 'Walk'], presets: [null, 'demonstration'] });
   });
 
   test(`${site}: an element scrolled off screen stops drawing`, async (t) => {

@@ -50,15 +50,18 @@ const DEMONSTRATION_OVERLAY: Overlay = Overlay::Difference;
 /// fixed 2.4 px put every switch inside the framing distance, and the dolly crossed none).
 pub const DEMONSTRATION_HEIGHT: f32 = 400.0;
 
+/// The threshold: the screen-space error at which a level switches.
+const THRESHOLD: PresetValue = PresetValue {
+    key: "tolerance",
+    label: "screen-space error allowed before a coarser level is used (px; the demonstration's per 400 px of view height)",
+    demonstration: 2.4,
+    realistic: 0.5,
+};
+
 /// The numeric settings the presets differ in, in the order the page lists them. The overlay
 /// (difference in the demonstration, none in the realistic preset) comes on top.
 pub const PRESET_VALUES: [PresetValue; 4] = [
-    PresetValue {
-        key: "tolerance",
-        label: "screen-space error allowed before a coarser level is used (px; the demonstration's per 400 px of view height)",
-        demonstration: 2.4,
-        realistic: 0.5,
-    },
+    THRESHOLD,
     PresetValue {
         key: "magnify",
         label: "magnifier about the point looked at (levels still chosen for the real size)",
@@ -126,7 +129,7 @@ impl Preset {
         for v in &PRESET_VALUES {
             let value = self.value(v);
             match v.key {
-                "tolerance" => s.tolerance_px = value,
+                "tolerance" => {}
                 "magnify" => s.magnify = value,
                 "transitionSpeed" => s.transition_speed = value,
                 "dollyPeriod" => s.dolly_period = value,
@@ -134,6 +137,13 @@ impl Preset {
             }
         }
         s.overlay = self.overlay();
+        self.apply_threshold(s);
+    }
+
+    /// Writes this preset's threshold into `s`, with its unit (the demonstration's is per
+    /// [`DEMONSTRATION_HEIGHT`] pixels of view height), and nothing else of the preset.
+    pub fn apply_threshold(self, s: &mut Settings) {
+        s.tolerance_px = self.value(&THRESHOLD);
         s.tolerance_height = match self {
             Preset::Demonstration => Some(DEMONSTRATION_HEIGHT),
             Preset::Realistic => None,

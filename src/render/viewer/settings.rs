@@ -194,6 +194,8 @@ pub struct Update {
     pub morphs: Option<bool>,
     /// A preset's settings, applied before the call's other keys (see [`super::preset`]).
     pub preset: Option<super::preset::Preset>,
+    /// A preset's threshold alone, with its unit, applied after `preset` and before `tolerance`.
+    pub tolerance_of: Option<super::preset::Preset>,
 }
 
 impl Update {
@@ -225,6 +227,9 @@ impl Update {
         set!(yaw_degrees, self.yaw);
         set!(pitch_degrees, self.pitch);
         set!(pan, self.pan);
+        if let Some(preset) = self.tolerance_of {
+            preset.apply_threshold(s);
+        }
         if let Some(tolerance) = self.tolerance {
             // A threshold given in pixels is pixels, whatever the view.
             s.tolerance_px = tolerance;
