@@ -10,49 +10,109 @@
 //! `false`, names, and `pan` as `x,y`. The time, clip, methods, distance, continuous triangle
 //! count and crowd are not among them: the page writes those under its own keys (`docs/viewer.md`).
 
-use super::read::read_json;
+use super::read::{Flag, List, Names, Number, OneOf};
 use super::viewer_settings::ViewerSettings;
 use crate::render::viewer::preset::Preset;
 use crate::render::viewer::settings::{overlay_name, variant_name, Settings, Update};
 
-/// One setting a link can carry: its `setState` key and its value in `s`, as text.
+/// One setting a link can carry: its `setState` key, its value in `s` as text, and that text
+/// read into `setState`'s settings as `setState` reads the key.
 struct LinkKey {
     key: &'static str,
     text: fn(&Settings) -> String,
+    read: fn(&mut ViewerSettings, &str, &str) -> Result<(), String>,
+}
+
+/// A [`LinkKey::read`] that sets `field` to what `parse(key, text)` makes of the text.
+macro_rules! read {
+    ($field:ident, $parse:ident) => {
+        |settings, key, text| {
+            settings.$field = Some($parse(key, text)?);
+            Ok(())
+        }
+    };
 }
 
 /// The settings a link carries, in the order it writes them.
 const LINK_KEYS: [LinkKey; 16] = [
     // The threshold's unit is part of it: 2.4 px per 400 px of view is not 2.4 px.
-    LinkKey { key: "tolerance", text: |s| number_per(s.tolerance_px, s.tolerance_height) },
-    LinkKey { key: "magnify", text: |s| s.magnify.to_string() },
-    LinkKey { key: "transitionSpeed", text: |s| s.transition_speed.to_string() },
-    LinkKey { key: "dollyPeriod", text: |s| s.dolly_period.to_string() },
-    LinkKey { key: "overlay", text: |s| overlay_name(s.overlay).to_string() },
-    LinkKey { key: "speed", text: |s| s.speed.to_string() },
-    LinkKey { key: "transition", text: |s| if s.by_distance { "distance" } else { "time" }.to_string() },
-    LinkKey { key: "duration", text: |s| s.duration.to_string() },
-    LinkKey { key: "zone", text: |s| s.zone.to_string() },
-    LinkKey { key: "hysteresis", text: |s| s.hysteresis.to_string() },
-    LinkKey { key: "variant", text: |s| variant_name(s.variant).to_string() },
-    LinkKey { key: "meter", text: |s| s.meter.to_string() },
-    LinkKey { key: "flip", text: |s| s.flip.to_string() },
-    LinkKey { key: "yaw", text: |s| s.yaw_degrees.to_string() },
-    LinkKey { key: "pitch", text: |s| s.pitch_degrees.to_string() },
-    LinkKey { key: "pan", text: |s| format!("{},{}", s.pan[0], s.pan[1]) },
+    LinkKey {
+        key: "tolerance",
+        text: |s| number_per(s.tolerance_px, s.tolerance_height),
+        read: read!(tolerance, number),
+    },
+    LinkKey { key: "magnify", text: |s| decimal(s.magnify), read: read!(magnify, number) },
+    LinkKey {
+        key: "transitionSpeed",
+        text: |s| decimal(s.transition_speed),
+        read: read!(transition_speed, number),
+    },
+    LinkKey { key: "dollyPeriod", text: |s| decimal(s.dolly_period), read: read!(dolly_period, number) },
+    LinkKey { key: "overlay", text: |s| overlay_name(s.overlay).to_string(), read: read!(overlay, name) },
+    LinkKey { key: "speed", text: |s| decimal(s.speed), read: read!(speed, number) },
+    LinkKey {
+        key: "transition",
+        text: |s| if s.by_distance { "distance" } else { "time" }.to_string(),
+        read: read!(transition, name),
+    },
+    LinkKey { key: "duration", text: |s| decimal(s.duration), read: read!(duration, number) },
+    LinkKey { key: "zone", text: |s| decimal(s.zone), read: read!(zone, number) },
+    LinkKey { key: "hysteresis", text: |s| decimal(s.hysteresis), read: read!(hysteresis, number) },
+    LinkKey { key: "variant", text: |s| variant_name(s.variant).to_string(), read: read!(variant, name) },
+    LinkKey { key: "meter", text: |s| s.meter.to_string(), read: read!(meter, flag) },
+    LinkKey { key: "flip", text: |s| s.flip.to_string(), read: read!(flip, flag) },
+    LinkKey { key: "yaw", text: |s| decimal(s.yaw_degrees), read: read!(yaw, number) },
+    LinkKey { key: "pitch", text: |s| decimal(s.pitch_degrees), read: read!(pitch, number) },
+    LinkKey {
+        key: "pan",
+        text: |s| format!("{},{}", decimal(s.pan[0]), decimal(s.pan[1])),
+        read: read!(pan, numbers),
+    },
 ];
+
+/// `x` in the fewest digits that read back as `x` in `f32`.
+fn decimal(x: f32) -> String {
+    x.to_string()
+}
+
+/// A link's number, or `setState`'s message for a value that is not one.
+fn number(key: &str, text: &str) -> Result<Number, String> {
+    let x = text.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+    x.map(Number).ok_or_else(|| format!("setState: {key} must be a number, got {text:?}"))
+}
+
+/// A link's numbers, separated by commas (`pan=0.25,-1`).
+fn numbers(key: &str, text: &str) -> Result<List<Number>, String> {
+    text.split(',').map(|x| number(key, x)).collect::<Result<_, _>>().map(List)
+}
+
+/// A link's `true` or `false`.
+fn flag(key: &str, text: &str) -> Result<Flag, String> {
+    match text.trim() {
+        "true" => Ok(Flag(true)),
+        "false" => Ok(Flag(false)),
+        _ => Err(format!("setState: {key} must be true or false, got {text:?}")),
+    }
+}
+
+/// One of `T`'s names.
+fn name<T: Names>(key: &str, text: &str) -> Result<OneOf<T>, String> {
+    T::named(text.trim()).map(OneOf).ok_or_else(|| {
+        format!("setState: {key} must be one of {}, got {text:?}", OneOf::<T>::accepts_names())
+    })
+}
 
 /// `value`, with the view height it is given per when it scales with the view: only for telling
 /// two thresholds apart (a link writes the value alone, which reads back as pixels).
 fn number_per(value: f32, height: Option<f32>) -> String {
     match height {
-        Some(h) => format!("{value}/{h}"),
-        None => value.to_string(),
+        Some(h) => format!("{}/{}", decimal(value), decimal(h)),
+        None => decimal(value),
     }
 }
 
 /// What a link says of the settings `s`: the preset it names and the pairs that differ from it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Link {
     /// `"demonstration"` or `"realistic"`.
     pub preset: &'static str,
@@ -97,40 +157,14 @@ pub fn link_updates(pairs: &[(String, String)], clips: &[String]) -> (Vec<Update
     let mut updates = Vec::new();
     let mut ignored = Vec::new();
     for (key, text) in pairs {
-        if !LINK_KEYS.iter().any(|k| k.key == key) {
-            continue;
-        }
-        match pair_update(key, text, clips) {
+        let Some(link_key) = LINK_KEYS.iter().find(|k| k.key == key) else { continue };
+        let mut settings = ViewerSettings::default();
+        match (link_key.read)(&mut settings, key, text).and_then(|()| settings.update(clips)) {
             Ok(u) => updates.push(u),
             Err(message) => ignored.push(format!("{key}: {message}")),
         }
     }
     (updates, ignored)
-}
-
-/// The update one link pair asks for: its text read as `setState` reads a value of that key.
-fn pair_update(key: &str, text: &str, clips: &[String]) -> Result<Update, String> {
-    let value = if key == "pan" {
-        let xy: Vec<serde_json::Value> = text.split(',').map(json_value).collect();
-        serde_json::Value::Array(xy)
-    } else {
-        json_value(text)
-    };
-    let json = serde_json::json!({ key: value }).to_string();
-    read_json::<ViewerSettings>("setState", &json)?.update(clips)
-}
-
-/// A link value as the JSON value it stands for: a finite number, `true` or `false`, or a string.
-fn json_value(text: &str) -> serde_json::Value {
-    let text = text.trim();
-    match text {
-        "true" => true.into(),
-        "false" => false.into(),
-        _ => match text.parse::<f64>() {
-            Ok(x) if x.is_finite() => x.into(),
-            _ => text.into(),
-        },
-    }
 }
 
 #[cfg(test)]

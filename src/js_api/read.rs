@@ -432,7 +432,8 @@ pub fn to_js<T: Serialize>(value: &T) -> Result<wasm_bindgen::JsValue, wasm_bind
         .map_err(|e| wasm_bindgen::JsError::new(&format!("cannot hand a result to JavaScript: {e}")))
 }
 
-/// `read_from` over JSON text, without serde_json's position.
+/// `read_from` over JSON text, without serde_json's position (for the native tests).
+#[cfg(test)]
 pub fn read_json<T: serde::de::DeserializeOwned>(call: &str, json: &str) -> Result<T, String> {
     read_from(call, &mut serde_json::Deserializer::from_str(json)).map_err(|e| match e.rfind(" at line ") {
         Some(at) => e[..at].to_string(),
