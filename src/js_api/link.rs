@@ -116,7 +116,7 @@ fn number_per(value: f32, height: Option<f32>) -> String {
 pub struct Link {
     /// `"demonstration"` or `"realistic"`.
     pub preset: &'static str,
-    /// `[key, value]` pairs, in [`LINK_KEYS`] order.
+    /// `[key, value]` pairs, in the order a link writes them (the table `LINK_KEYS`).
     pub pairs: Vec<[String; 2]>,
 }
 
