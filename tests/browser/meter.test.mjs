@@ -43,7 +43,7 @@ for (const backend of ['webgpu', 'webgl2']) {
   });
 
   test(`${backend}: walking at 6 px with 2 s transitions, alpha's and geomorph's pops ≤ 20 % of popping's, ranked alike at 10× the frame rate`, async () => {
-    const page = await openPage(browser, { backend }, { width: 1240, height: 700 });
+    const page = await openPage(browser, { backend }, SMALL_VIEWPORT);
     let now = 1000;
     let state = await frame(page, now, { paused: false, speed: 1, time: 0.2, distanceMode: 'manual', distance: 1, tolerance: 6, hysteresis: 0.1, transition: 'time', duration: 2, variant: 'opaque-first', flip: false });
     const s = state.switch;
