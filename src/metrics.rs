@@ -221,13 +221,6 @@ impl<'a> TriangleGrid<'a> {
         let target_cells = (triangles as f32 / 2.0).clamp(1.0, 4_000_000.0);
         let cell = (extent.x * extent.y * extent.z / target_cells).cbrt().max(extent.max_element() / 256.0);
         let dims = (extent / cell).ceil().max(Vec3::ONE).to_array().map(|d| d as usize);
-        let boxes = (0..triangles)
-            .map(|t| {
-                let i = &indices[3 * t..3 * t + 3];
-                let [a, b, c] = [0, 1, 2].map(|k| positions[i[k] as usize]);
-                [a.min(b).min(c), a.max(b).max(c)]
-            })
-            .collect();
         let scale = lo.abs().max(hi.abs()).max_element();
         let mut grid = Self {
             positions,
@@ -237,9 +230,15 @@ impl<'a> TriangleGrid<'a> {
             dims,
             starts: Vec::new(),
             items: Vec::new(),
-            boxes,
+            boxes: Vec::new(),
             scale,
         };
+        grid.boxes = (0..triangles)
+            .map(|t| {
+                let [a, b, c] = grid.corners(t);
+                [a.min(b).min(c), a.max(b).max(c)]
+            })
+            .collect();
         let mut counts = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
         for pass in 0..2 {
             if pass == 1 {
