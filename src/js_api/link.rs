@@ -34,7 +34,7 @@ macro_rules! read {
 }
 
 /// The settings a link carries, in the order it writes them.
-const LINK_KEYS: [LinkKey; 16] = [
+const LINK_KEYS: [LinkKey; 18] = [
     // The threshold's unit is part of it: 2.4 px per 400 px of view is not 2.4 px.
     LinkKey {
         key: "tolerance",
@@ -61,6 +61,8 @@ const LINK_KEYS: [LinkKey; 16] = [
     LinkKey { key: "variant", text: |s| variant_name(s.variant).to_string(), read: read!(variant, name) },
     LinkKey { key: "meter", text: |s| s.meter.to_string(), read: read!(meter, flag) },
     LinkKey { key: "flip", text: |s| s.flip.to_string(), read: read!(flip, flag) },
+    LinkKey { key: "crowdLod", text: |s| s.crowd_lod.to_string(), read: read!(crowd_lod, flag) },
+    LinkKey { key: "morphs", text: |s| s.morphs.to_string(), read: read!(morphs, flag) },
     LinkKey { key: "yaw", text: |s| decimal(s.yaw_degrees), read: read!(yaw, number) },
     LinkKey { key: "pitch", text: |s| decimal(s.pitch_degrees), read: read!(pitch, number) },
     LinkKey {
@@ -210,14 +212,16 @@ mod tests {
         assert_eq!(pairs(&link), expected.map(|(k, v)| (k.to_string(), v.to_string())));
         assert_eq!(open(&link), s, "the demonstration's threshold still scales with the view");
 
-        // Realistic but for the overlay and a threshold in pixels.
+        // Realistic but for the overlay, a threshold in pixels, a crowd at full detail and the
+        // base shape.
         let mut s = Settings::default();
-        (s.overlay, s.tolerance_px) = (Overlay::Wireframe, 2.4);
+        (s.overlay, s.tolerance_px, s.crowd_lod, s.morphs) = (Overlay::Wireframe, 2.4, false, false);
         let link = link_of(&s);
         assert_eq!(link.preset, "realistic");
         assert_eq!(
             pairs(&link),
-            [("tolerance", "2.4"), ("overlay", "wireframe")].map(|(k, v)| (k.to_string(), v.to_string()))
+            [("tolerance", "2.4"), ("overlay", "wireframe"), ("crowdLod", "false"), ("morphs", "false")]
+                .map(|(k, v)| (k.to_string(), v.to_string()))
         );
         assert_eq!(open(&link), s);
     }
