@@ -239,13 +239,13 @@ for (const [name, url] of [['CesiumMan.glb', '/models/CesiumMan.glb'], ['charact
 }
 
 test('the URL carries model, clip, t, mode and every setting moved off the preset, and a shared link opens that view', async () => {
-  const page = await openPage(browser, { clip: 'Wave', t: '1.25', mode: 'pop+morph', tolerance: '1.5', variant: 'dither' });
+  const page = await openPage(browser, { clip: 'Wave', t: '1.25', mode: 'pop+morph', tolerance: '1.5', variant: 'dither', morphs: 'false' });
   const state = await frame(page, 1000);
   assert.equal(state.clips[state.clip], 'Wave');
   assert.equal(state.paused, true);
   assert.ok(Math.abs(state.animTime - 1.25) < 1e-3, `animTime ${state.animTime}`);
   assert.deepEqual(state.views.map((v) => v.method), ['popping', 'geomorph']);
-  assert.deepEqual([state.preset.name, state.preset.tolerancePx, state.variant], [null, 1.5, 'dither']);
+  assert.deepEqual([state.preset.name, state.preset.tolerancePx, state.variant, state.morphs], [null, 1.5, 'dither', false]);
   // The reader moves controls and the camera: each is in the link.
   await page.locator('#speed').fill('0.5');
   await page.selectOption('#magnify', '4');
@@ -260,14 +260,14 @@ test('the URL carries model, clip, t, mode and every setting moved off the prese
   assert.equal(search.get('clip'), 'Wave');
   assert.match(raw, /[?&]mode=pop\+morph(&|$)/, 'the methods as written, a + reading as a space');
   assert.equal(search.get('settings'), null, 'the page\'s own preset is not written');
-  assert.deepEqual(['tolerance', 'variant', 'speed', 'magnify', 'overlay', 'flip'].map((k) => search.get(k)), ['1.5', 'dither', '0.5', '4', 'wireframe', 'false']);
+  assert.deepEqual(['tolerance', 'variant', 'morphs', 'speed', 'magnify', 'overlay', 'flip'].map((k) => search.get(k)), ['1.5', 'dither', 'false', '0.5', '4', 'wireframe', 'false']);
   // Opened elsewhere, the link shows the same settings.
   const shared = await openPage(browser, Object.fromEntries([...search].filter(([k]) => k !== 'test')));
   const a = await frame(page, 1100);
   const b = await frame(shared, 1100);
   const settings = (s) => ({
     clip: s.clip, animTime: s.animTime.toFixed(2), methods: s.views.map((v) => v.method), preset: s.preset, variant: s.variant,
-    speed: s.speed, magnify: s.magnify, overlay: s.overlay, flip: s.meter.flipOn, yaw: s.yaw, pitch: s.pitch, pan: s.pan,
+    speed: s.speed, magnify: s.magnify, overlay: s.overlay, flip: s.meter.flipOn, morphs: s.morphs, yaw: s.yaw, pitch: s.pitch, pan: s.pan,
   });
   assert.deepEqual(settings(b), settings(a));
   assert.equal(await shared.evaluate(() => document.getElementById('status').textContent.includes('Ignored')), false);
