@@ -8,7 +8,8 @@
 //! is what the page opens with. The keys are `setState`'s ([`ViewerSettings`]) and so are their
 //! values, as text: numbers in the shortest form that reads back to the same `f32`, `true` or
 //! `false`, names, and `pan` as `x,y`. The time, clip, methods, distance, continuous triangle
-//! count and crowd are not among them: the page writes those under its own keys (`docs/viewer.md`).
+//! count and crowd mode with its instance count are not among them: the page writes those under
+//! its own keys (`docs/viewer.md`); the crowd's level selection (`crowdLod`) is.
 
 use super::read::{Flag, List, Names, Number, OneOf};
 use super::viewer_settings::ViewerSettings;
