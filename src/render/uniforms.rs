@@ -4,6 +4,7 @@
 //! garbage. Matrices are column-major, as glam and WGSL store them.
 
 use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
 
 pub use crate::morph::MAX_MORPH_TARGETS;
 
@@ -32,6 +33,28 @@ pub struct CameraRaw {
     /// 1 when the colour target is not an sRGB format and the shader must encode.
     pub encode_srgb: u32,
     pub _pad: [u32; 3],
+}
+
+impl CameraRaw {
+    /// A camera at `eye` looking towards `target` (both in model space), with the viewer's
+    /// lights: the key light above-right of the camera, so that the lit side faces the reader
+    /// whatever the yaw, and a sky-and-ground hemisphere; colours linear, the shader not encoding
+    /// sRGB (the renderer sets `encode_srgb` for its target). An `eye` at `target` looks down −z.
+    pub fn lit(clip_from_model: Mat4, eye: Vec3, target: Vec3) -> CameraRaw {
+        let forward = (target - eye).normalize_or(Vec3::NEG_Z);
+        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let light = (-forward + 0.9 * Vec3::Y + 0.5 * right).normalize();
+        CameraRaw {
+            clip_from_model: clip_from_model.to_cols_array_2d(),
+            eye_model: eye.extend(1.0).to_array(),
+            light_dir: light.extend(0.85).to_array(),
+            sky_color: [0.40, 0.44, 0.52, 1.0],
+            ground_color: [0.14, 0.12, 0.10, 1.0],
+            up: [0.0, 1.0, 0.0, 0.0],
+            encode_srgb: 0,
+            _pad: [0; 3],
+        }
+    }
 }
 
 /// `MorphWeights` in `skin.wgsl`: the frame's morph-target weights, target `t` at
@@ -89,3 +112,31 @@ pub const MIRRORS: [(&str, usize); 4] = [
     ("Material", std::mem::size_of::<MaterialRaw>()),
     ("Draw", std::mem::size_of::<DrawRaw>()),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn the_key_light_is_above_right_of_the_camera_whatever_the_yaw() {
+        for yaw in (0..8).map(|k| k as f32 * std::f32::consts::FRAC_PI_4) {
+            let eye = Vec3::new(3.0 * yaw.sin(), 1.0, 3.0 * yaw.cos());
+            let target = Vec3::new(0.0, 1.0, 0.0);
+            let camera = CameraRaw::lit(Mat4::IDENTITY, eye, target);
+            let light = Vec3::from_slice(&camera.light_dir[..3]);
+            let forward = (target - eye).normalize();
+            let right = forward.cross(Vec3::Y).normalize();
+            assert!((light.length() - 1.0).abs() < 1e-6, "yaw {yaw}: a unit direction");
+            assert!(light.dot(-forward) > 0.5, "yaw {yaw}: from the camera's side");
+            assert!(light.y > 0.4 && light.dot(right) > 0.2, "yaw {yaw}: above and to the right");
+            assert_eq!(camera.eye_model, [eye.x, eye.y, eye.z, 1.0]);
+        }
+        // Looking straight down, or with the eye at the target: still a light, no NaN.
+        for (eye, target) in [(Vec3::Y, Vec3::ZERO), (Vec3::ONE, Vec3::ONE)] {
+            let camera = CameraRaw::lit(Mat4::IDENTITY, eye, target);
+            assert!(camera.light_dir.iter().all(|x| x.is_finite()), "{eye} → {target}");
+        }
+    }
+}

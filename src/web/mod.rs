@@ -22,7 +22,7 @@ mod state;
 use std::cell::{RefCell, RefMut};
 use std::rc::Rc;
 
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use wasm_bindgen::prelude::*;
 
 use crate::character::Character;
@@ -31,8 +31,7 @@ use crate::import;
 use crate::js_api::read::{read, to_js};
 use crate::js_api::viewer_settings::{Backend, CreateOptions, ViewerSettings};
 use crate::js_api::viewer_state::{FlipResult, Num, ViewerState};
-use crate::render::camera::OrbitCamera;
-use crate::render::crowd::{Crowd, PosePalette};
+use crate::render::crowd::PosePalette;
 use crate::render::gpu::{next_task, BackendChoice, FrameInput, Renderer};
 use crate::render::lod_source::LodSource;
 use crate::render::meter::{frame_difference, FrameDifference, MeterFrames, MeterSample, TransitionMeter};
@@ -610,9 +609,15 @@ impl Inner {
             Some(c) => {
                 self.renderer.set_crowd_palette(&c.palette, self.model.settings.morphs);
                 self.renderer.set_crowd_instances(&c.frame);
-                crowd_camera_raw(&c.crowd)
+                // The crowd's camera is in world space, lit as the single view is.
+                let crowd = &c.crowd;
+                CameraRaw::lit(crowd.clip_from_world, crowd.eye, crowd.eye + crowd.forward())
             }
-            None => camera_raw(&self.model.camera, self.model.layout.views[0].aspect()),
+            None => {
+                let camera = &self.model.camera;
+                let aspect = self.model.layout.views[0].aspect();
+                CameraRaw::lit(camera.clip_from_model(aspect), camera.eye(), camera.target)
+            }
         };
         let clip = self.model.settings.clip.and_then(|c| self.character.clips.get(c));
         let time = self.model.anim_time as f32;
@@ -772,34 +777,5 @@ impl Inner {
             (Some(1), Some((_, coarser))) => coarser,
             _ => self.lod.levels.get(level).map_or(0, |l| l.triangle_count()),
         }
-    }
-}
-
-/// The shared camera and lights. The key light sits above-right of the camera, so the lit side
-/// faces the viewer whatever the yaw; colours are linear.
-fn camera_raw(camera: &OrbitCamera, aspect: f32) -> CameraRaw {
-    lit_camera(camera.clip_from_model(aspect), camera.eye(), camera.target)
-}
-
-/// The crowd's camera (`clip_from_world`, the eye in world space), lit as the single view is.
-fn crowd_camera_raw(crowd: &Crowd) -> CameraRaw {
-    lit_camera(crowd.clip_from_world, crowd.eye, crowd.eye + crowd.forward())
-}
-
-/// A camera at `eye` looking towards `target` with the viewer's lights: the key light above-right
-/// of the camera, a sky-and-ground hemisphere; linear colours.
-fn lit_camera(clip_from_model: Mat4, eye: Vec3, target: Vec3) -> CameraRaw {
-    let forward = (target - eye).normalize_or(Vec3::NEG_Z);
-    let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
-    let light = (-forward + 0.9 * Vec3::Y + 0.5 * right).normalize();
-    CameraRaw {
-        clip_from_model: clip_from_model.to_cols_array_2d(),
-        eye_model: eye.extend(1.0).to_array(),
-        light_dir: light.extend(0.85).to_array(),
-        sky_color: [0.40, 0.44, 0.52, 1.0],
-        ground_color: [0.14, 0.12, 0.10, 1.0],
-        up: [0.0, 1.0, 0.0, 0.0],
-        encode_srgb: 0,
-        _pad: [0; 3],
     }
 }
