@@ -43,6 +43,31 @@ cargo fmt --all --check
 step "paths named in docs and comments exist"
 node scripts/check-paths.mjs
 
+# The pages' release builds (see build_wasm: the WebGPU page and the Draco module in target/pages/,
+# the WebGL2 page in target/pages-webgl/, so that the two build at once) run in the background from
+# here to the JavaScript API step. Each ends in one long single-threaded stretch (the LTO of its
+# last crate, one codegen unit, then wasm-opt), and the lints and tests leave a core idle now and
+# then: measured on 2 cores, the WebGL2 build run alone after the node tests kept the machine
+# half idle for three minutes.
+# background_build NAME SECTION...: runs build_wasm for each SECTION in turn, the output in
+# target/test-logs/NAME-build.log, the process id in $build_pid (for wait_build).
+background_build() {
+  local name="$1"
+  shift
+  (for section in "$@"; do build_wasm "$section" || exit 1; done) > "$logs/$name-build.log" 2>&1 &
+  build_pid=$!
+}
+wait_build() {
+  if ! wait "$1"; then
+    cat "$logs/$2-build.log" >&2
+    exit 1
+  fi
+}
+background_build web web draco
+web_build=$build_pid
+background_build webgl webgl
+webgl_build=$build_pid
+
 step "clippy (native, all targets; wasm32 library with the JS API, and with the renderer)"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy --lib --target "$target" --features "$(manifest node.features)" -- -D warnings
@@ -62,46 +87,25 @@ step "native tests"
 cargo test --workspace 2>&1 | tee "$logs/native.log"
 node scripts/count-tests.mjs native "$logs/native.log" "$summary"
 
-# The pages' release builds (target/pages/, see build_wasm) run beside the steps whose tests keep
-# one core busy, and beside the LTO of their own last crate, which uses one.
-# background_build SECTION: starts build_wasm SECTION, its output in
-# target/test-logs/SECTION-build.log, its process id in $build_pid (for wait_build).
-background_build() {
-  build_wasm "$1" > "$logs/$1-build.log" 2>&1 &
-  build_pid=$!
-}
-wait_build() {
-  if ! wait "$1"; then
-    cat "$logs/$2-build.log" >&2
-    exit 1
-  fi
-}
-
-step "the same tests under node (wasm-pack test --node), the WebGPU page built meanwhile"
-background_build web
-web_build=$build_pid
+step "the same tests under node (wasm-pack test --node)"
 CI="${CI:-}" wasm-pack test --node 2>&1 | tee "$logs/wasm-node.log"
 node scripts/count-tests.mjs wasm-node "$logs/wasm-node.log" "$summary"
 
-step "JavaScript API from node (the WebGPU page's release wasm, bound for node), the WebGL2 page built meanwhile"
+step "JavaScript API from node (the WebGPU page's release wasm, bound for node)"
+# tests/js/draco.test.mjs hands the import the Draco module built with the page: the page's builds
+# link no Draco decoder.
 wait_build "$web_build" web
 node_from_web
-# The page's builds link no Draco decoder: tests/js/draco.test.mjs hands the import this module.
-build_wasm draco
-# The WebGL2 page builds for the browser step meanwhile: the node tests keep one core busy, and
-# the build's last crate (LTO, one codegen unit) and its wasm-opt use one.
-background_build webgl
-webgl_build=$build_pid
 node --test tests/js/ 2>&1 | tee "$logs/js-api.log"
 node scripts/count-tests.mjs js-api "$logs/js-api.log" "$summary"
-wait_build "$webgl_build" webgl
 
 step "browser tests: the viewer in headless Chromium (WebGPU and WebGL2 on SwiftShader)"
 if ! wait "$chromium_install"; then
   cat "$chromium_log" >&2
   exit 1
 fi
-# The three page builds are those of the step before.
+wait_build "$webgl_build" webgl
+# The three page builds are those started before the lints.
 PAGES_BUILT=1 bash scripts/browser-test.sh 2>&1 | tee "$logs/browser.log"
 node scripts/count-tests.mjs browser "$logs/browser.log" "$summary"
 
