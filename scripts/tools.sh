@@ -83,19 +83,18 @@ node_from_web() {
 # dir, features (`default-features = false` drops the crate's defaults) of wasm-pack.toml [SECTION],
 # then wasm-opt at the section's level (`wasm-opt = "-Oz"`; false: none; the environment's WASM_OPT,
 # when set, replaces it: WASM_OPT=false for a quick build, WASM_OPT=-O3 to compare levels).
-# The release builds of the pages compile into target directories of their own (the section's
-# `target-dir`, default target/pages/): they share no artifact with the dev and test builds, and
-# with directories of their own they build without waiting for cargo's lock on target/, or on each
-# other's (scripts/test.sh builds them beside the lints and tests, at once).
+# The release builds of the pages compile into target/pages/, a target directory of their own: they
+# share no artifact with the dev and test builds, and with a directory of their own they build
+# without waiting for cargo's lock on target/ (scripts/test.sh builds them beside the lints and
+# tests).
 build_wasm() {
   local section="$1"
   local crate; crate="$(manifest "$section.crate" .)"
   local out; out="$root/$(manifest "$section.out-dir")"
   local name; name="$(manifest "$section.out-name")"
-  local target_dir; target_dir="$root/$(manifest "$section.target-dir" target/pages)"
   local defaults=()
   [ "$(manifest "$section.default-features" true)" = false ] && defaults=(--no-default-features)
-  (cd "$root/$crate" && CARGO_TARGET_DIR="$target_dir" wasm-pack build --release --no-pack \
+  (cd "$root/$crate" && CARGO_TARGET_DIR="$root/target/pages" wasm-pack build --release --no-pack \
     --target "$(manifest "$section.target")" \
     --out-dir "$out" \
     --out-name "$name" \
