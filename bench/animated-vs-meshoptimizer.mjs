@@ -6,7 +6,7 @@
 //
 // For every model it has (the shared models CesiumMan, Fox, RiggedSimple, any other model in
 // ../shared/models, the project's assets/character.glb, robot.glb, parts.glb, critter.glb, and the generated
-// hardsurface.glb and lowpoly-robot.glb, made into target/generated/ on the spot; or the files named on the
+// hardsurface.glb, lowpoly-robot.glb and fingers.glb, made into target/generated/ on the spot; or the files named on the
 // command line, see bench/models.mjs), the counts are our default build's levels from level 1 on (`buildClod()`:
 // multi-pose simplification). At each count meshoptimizer simplifies the bind-pose mesh, from the full mesh, in
 // eight variants: `simplify` and `simplifyWithAttributes` (normals and uv priced with weight 1 each, see

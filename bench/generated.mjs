@@ -1,7 +1,7 @@
 // The test characters the generator makes that are not committed (too large, or made for the
-// benchmark only): `hardsurface.glb` (61,974 triangles) and `lowpoly-robot.glb` (658 KB), see
-// assets/README.md. `generated(name)` writes one into target/generated/ with the generator and
-// returns its path; it runs the generator every time (about a second once it is built, so a file
+// benchmark only): `hardsurface.glb` (61,974 triangles), `lowpoly-robot.glb` (658 KB) and
+// `fingers.glb` (805 KB), see assets/README.md. `generated(name)` writes one into
+// target/generated/ with the generator and returns its path; it runs the generator every time (about a second once it is built, so a file
 // there is never stale) and moves the result into place in one step, so processes that ask at once
 // never read a half-written file. The generator is the binary `cargo test --workspace` builds
 // (target/debug/make-character) when that is newer than its sources and the library's, else
@@ -30,7 +30,7 @@ function generator() {
 }
 
 /** The generated characters the benchmarks measure by default, after the committed ones. */
-export const GENERATED_NAMES = ['hardsurface.glb', 'lowpoly-robot.glb'];
+export const GENERATED_NAMES = ['hardsurface.glb', 'lowpoly-robot.glb', 'fingers.glb'];
 
 /**
  * The path of `target/generated/<name>`, made now by the generator; with `detail` (hardsurface.glb

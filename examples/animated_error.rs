@@ -20,7 +20,8 @@
 //!    at the same frame (5,000 samples, seed 12345); the mean over clips × frames × levels of the
 //!    sampled mean distance, and the largest Hausdorff distance. These are the bench's numbers.
 //!
-//! `--detail` adds the animated error per level and per clip, and how much of each level's animated
+//! `--detail` adds the animated error per level and per clip, each with its worst point (the largest
+//! Hausdorff distance of its frames), and how much of each level's animated
 //! error the level already has in the bind pose, with nothing animated (`in bind pose`): the part of
 //! a bind-pose build's error that no choice of simplification pose can remove, roughly, since that
 //! build is what the greedy simplifier does best in that pose. `--oracle` adds what choosing the
@@ -198,6 +199,8 @@ fn report(
         let levels = built.levels.len();
         let mut per_level = vec![0.0f64; levels];
         let mut per_clip = vec![0.0f64; character.clips.len()];
+        let mut worst_per_clip = vec![0.0f32; character.clips.len()];
+        let mut worst_per_level = vec![0.0f32; levels];
         let mut sum = 0.0f64;
         let mut worst = 0.0f32;
         // Each level in the bind pose (every skin matrix the identity), for `--detail`.
@@ -211,6 +214,8 @@ fn report(
                 sum += d.mean as f64;
                 *level_sum += d.mean as f64;
                 per_clip[*clip] += d.mean as f64;
+                worst_per_clip[*clip] = worst_per_clip[*clip].max(d.hausdorff);
+                worst_per_level[i] = worst_per_level[i].max(d.hausdorff);
                 worst = worst.max(d.hausdorff);
             }
         }
@@ -229,12 +234,21 @@ fn report(
             let by_clip: Vec<String> = character
                 .clips
                 .iter()
-                .zip(&per_clip)
-                .map(|(c, s)| format!("{} {:.3}", c.name, pct(s / (FRAMES * levels) as f64)))
+                .zip(per_clip.iter().zip(&worst_per_clip))
+                .map(|(c, (s, w))| {
+                    format!(
+                        "{} {:.3} (worst {:.3})",
+                        c.name,
+                        pct(s / (FRAMES * levels) as f64),
+                        pct(*w as f64)
+                    )
+                })
                 .collect();
             let in_bind: Vec<String> = static_per_level.iter().map(|&s| format!("{:.3}", pct(s))).collect();
             let static_mean = static_per_level.iter().sum::<f64>() / levels as f64;
-            println!("    per level: {}", by_level.join(" "));
+            let worst_by_level: Vec<String> =
+                worst_per_level.iter().map(|&w| format!("{:.3}", pct(w as f64))).collect();
+            println!("    per level: {} (worst {})", by_level.join(" "), worst_by_level.join(" "));
             println!(
                 "    in bind pose: {} (mean {:.3}, {:.1} % of the animated error)",
                 in_bind.join(" "),

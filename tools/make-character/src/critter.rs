@@ -74,7 +74,7 @@ fn find(joints: &[RJoint], name: &str) -> u16 {
 /// being `(joint, centre)` in increasing order of centre: inside a bone's centre and the next's
 /// the two blend linearly, outside the first or last the end bone has it all. The blend is
 /// rounded to 1/1024 so that the two weights sum to 1 exactly; the larger comes first.
-fn chain_weights(chain: &[(u16, f32)], s: f32) -> ([u16; 4], [f32; 4]) {
+pub fn chain_weights(chain: &[(u16, f32)], s: f32) -> ([u16; 4], [f32; 4]) {
     let rigid = |j: u16| ([j, 0, 0, 0], [1.0, 0.0, 0.0, 0.0]);
     if s <= chain[0].1 {
         return rigid(chain[0].0);

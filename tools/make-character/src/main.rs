@@ -3,7 +3,8 @@
 //! robot with morph targets) and `parts.glb` (many open armour plates), see [`robot`];
 //! `hardsurface.glb` (sixty smooth hard-surface parts, 61k triangles, not committed), see
 //! [`hardsurface`]; `lowpoly-robot.glb` (every edge a normal seam, morph targets), see
-//! [`lowpoly`]; and `critter.glb` (a 500-triangle animal with a long tail), see [`critter`].
+//! [`lowpoly`]; `critter.glb` (a 500-triangle animal with a long tail), see [`critter`]; and
+//! `fingers.glb` (a humanoid with 65 joints and thin fingers, not committed), see [`fingers`].
 //!
 //! Pipeline: body design ([`body`]) → implicit field ([`field`]) → surface nets ([`mesher`]) →
 //! skin weights ([`skin`]) → material split, UVs and colours ([`regions`]) → clips ([`clips`]) →
@@ -25,6 +26,7 @@ mod clips;
 mod critter;
 mod facets;
 mod field;
+mod fingers;
 mod glb;
 mod hardsurface;
 mod lowpoly;
@@ -191,6 +193,9 @@ fn make(path: &Path, detail: f64, check: bool, render_dir: Option<&Path>) -> Res
     } else if stem == "critter" {
         only_default("critter")?;
         Some((critter::critter(), Kind::Critter))
+    } else if stem == "fingers" {
+        only_default("fingers")?;
+        Some((fingers::fingers(), Kind::Fingers))
     } else {
         None
     };
@@ -205,6 +210,7 @@ fn make(path: &Path, detail: f64, check: bool, render_dir: Option<&Path>) -> Res
             Kind::HardSurface => validate_kinds::check_hardsurface(&bytes, detail)?,
             Kind::LowPolyRobot => validate_kinds::check_lowpoly_robot(&bytes)?,
             Kind::Critter => validate_kinds::check_critter(&bytes)?,
+            Kind::Fingers => validate_kinds::check_fingers(&bytes)?,
         };
         println!("{report}");
         if let Some(dir) = render_dir {
@@ -258,6 +264,7 @@ enum Kind {
     HardSurface,
     LowPolyRobot,
     Critter,
+    Fingers,
 }
 
 /// Writes `bytes` to `path`, or with `check` fails unless `path` holds exactly them.

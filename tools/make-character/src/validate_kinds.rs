@@ -1,5 +1,5 @@
-//! Generator-side checks of the three kinds made for the benchmark against meshoptimizer
-//! (`hardsurface.glb`, `lowpoly-robot.glb`, `critter.glb`): each file is read back with the `gltf`
+//! Generator-side checks of the four kinds made for the benchmark against meshoptimizer
+//! (`hardsurface.glb`, `lowpoly-robot.glb`, `critter.glb`, `fingers.glb`): each file is read back with the `gltf`
 //! crate (independently of the project's importer) and checked for what its kind stands for:
 //! counts, materials and attributes, how parts are shaded (smooth within a part; or every edge a
 //! normal seam), which parts are open or closed, skin weights normalized and sorted, morph targets,
@@ -453,6 +453,54 @@ pub fn check_critter(bytes: &[u8]) -> Result<String, String> {
         "{} bytes: {} primitives, {} vertices, {triangles} triangles (each its own corners, every edge \
          a normal seam), \
          {} joints ({tail} in the tail), {blended} vertices blending two joints; clips {}",
+        r.bytes,
+        r.prims.len(),
+        r.vertices(),
+        r.joints,
+        Read::clip_text(&clips)
+    ))
+}
+
+/// `fingers.glb`: 65 joints with 40 in the fingers, about 24k smooth-shaded triangles in four
+/// primitives, closed parts, weights blending two joints, three clips that keep the mesh whole.
+///
+/// # Errors
+/// A message naming what is off.
+pub fn check_fingers(bytes: &[u8]) -> Result<String, String> {
+    let r = read(bytes)?;
+    r.check_weights()?;
+    let triangles = r.triangles();
+    let names = &r.skins[0].nodes;
+    let finger_joints = r.skins[0].joints.iter().filter(|j| {
+        let name = &names[j.node].name;
+        ["Thumb", "Index", "Middle", "Ring", "Pinky"].iter().any(|f| name.contains(f))
+    });
+    let finger_joints = finger_joints.count();
+    let blended = r.prims.iter().flat_map(|p| &p.weights).filter(|w| w[1] > 0.0).count();
+    let open = r.prims.iter().map(border_loops).sum::<usize>();
+    let faceted_parts = r.prims.iter().filter(|p| faceted(p)).count();
+    if !(20_000..=28_000).contains(&triangles)
+        || r.joints != 65
+        || finger_joints != 40
+        || r.prims.len() != 4
+        || blended == 0
+        || open != 0
+        || faceted_parts != 0
+        || r.clips.len() != 3
+    {
+        return Err(format!(
+            "fingers: {triangles} triangles, {} joints ({finger_joints} in the fingers), {} primitives, \
+             {blended} blended vertices, {open} border loops, {faceted_parts} faceted primitives, {} clips; \
+             expected 20,000–28,000, 65 (40), 4, some, none, none, 3",
+            r.joints,
+            r.prims.len(),
+            r.clips.len()
+        ));
+    }
+    let clips = r.check_skinning()?;
+    Ok(format!(
+        "{} bytes: {} primitives, {} vertices, {triangles} smooth-shaded triangles, {} joints \
+         ({finger_joints} in the fingers), {blended} vertices blending two joints; clips {}",
         r.bytes,
         r.prims.len(),
         r.vertices(),

@@ -2,8 +2,8 @@
 //! each holding the chain's invariants (the checks of `tests/common/chain.rs`, shared with the
 //! library's tests): `lowpoly-robot.glb` (every edge a normal seam, morph targets) and
 //! `hardsurface.glb` at `--detail 0.25` (60 smooth parts, open and closed, about 15k triangles:
-//! the 62k file is for the benchmark). Each test runs this crate's generator into the test's
-//! scratch folder first.
+//! the 62k file is for the benchmark) and `fingers.glb` (65 joints, 40 of them in thin fingers,
+//! smooth skinning). Each test runs this crate's generator into the test's scratch folder first.
 
 #[path = "../../../tests/common/chain.rs"]
 mod chain;
@@ -46,4 +46,13 @@ fn hardsurface_chain_holds_its_invariants() {
     assert_eq!(robot.skeleton.joints.len(), 18);
     let (_, counts) = build_and_check("hardsurface", &robot);
     assert!(counts.len() >= 2, "hardsurface: levels {counts:?}");
+}
+
+#[test]
+fn fingers_chain_holds_its_invariants() {
+    let character = generated("fingers.glb", None);
+    assert_eq!(character.skeleton.joints.len(), 65);
+    assert!(character.mesh.weights.iter().any(|w| w[1] > 0.0), "blended skinning");
+    let (_, counts) = build_and_check("fingers", &character);
+    assert!(counts.len() >= 6, "fingers: levels {counts:?}");
 }
