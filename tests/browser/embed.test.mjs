@@ -188,10 +188,20 @@ for (const [site, base] of SITES) {
   test(`${site}: an element scrolled off screen stops drawing`, async (t) => {
     const page = await open(t, new URL('docs-example.html', base()).href, { width: 1000, height: 480 });
     await waitLoaded(page, 'walk');
-    await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
-    // The intersection observer reports on its own schedule and a software-rendered frame may be
-    // in flight: give it a second, then count.
-    await page.waitForTimeout(1000);
+    // Scrolls the element off screen and waits until an intersection observer of the test's own
+    // has heard so. The element's observer is older, and observers hear of one update in the order
+    // they were made, so by then the element knows too: a frame it asked for before is not drawn.
+    // (A fixed wait of a second was not always enough: under load a software-rendered frame takes
+    // about that long, and the observers hear only after it.)
+    await page.evaluate(() => new Promise((resolve) => {
+      const io = new IntersectionObserver((entries) => {
+        if (entries.at(-1).isIntersecting) return;
+        io.disconnect();
+        resolve();
+      });
+      io.observe(document.getElementById('walk'));
+      window.scrollTo(0, document.body.scrollHeight);
+    }));
     const a = await page.evaluate(() => document.getElementById('walk').state().frames);
     await page.waitForTimeout(2000);
     const b = await page.evaluate(() => document.getElementById('walk').state().frames);
