@@ -5,7 +5,7 @@
 //! nearest it ([`crate::critter::chain_weights`]). Its parts are closed smooth limbs that meet by
 //! overlapping (the trunk, neck, arms, palms, 30 finger segments in 10 fingers, legs, feet) plus
 //! two eyes, in four primitives (skin, trousers, shoes, eyes), about 24k triangles, no uvs. The
-//! fingers are thin (8 to 9 mm radius) and bend at every joint, the kind of small part a
+//! fingers are thin (8 to 9.5 mm radius) and bend at every joint, the kind of small part a
 //! character's levels lose first. Clips `Walk` (a 1 s stride, fingers relaxed), `Grab` (2 s: both
 //! hands close to fists and open) and `Wave` (2 s: the right arm raised, the hand waving), LINEAR.
 //!
