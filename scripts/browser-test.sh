@@ -45,7 +45,7 @@ fi
 # package), the package installed into an empty site, the element's error events, the crowd, morph targets,
 # the default page's first impression (which takes the README's screenshot), FLIP against its reference's fixtures.
 # frame-times only reports numbers and takes minutes on SwiftShader: `BROWSER_TESTS=all` runs every
-# file; `BROWSER_TESTS="tests/browser/a.test.mjs tests/browser/b.test.mjs"` runs those.
+# file; `BROWSER_TESTS="tests/browser/embed.test.mjs tests/browser/morph.test.mjs"` runs those (paths).
 if [ "${BROWSER_TESTS:-}" = all ]; then
   files=(tests/browser/)
 elif [ -n "${BROWSER_TESTS:-}" ]; then
