@@ -9,9 +9,10 @@
 //!
 //! Units metres, +Z forward (the nose), Y up; joints carry no rest rotation, as in [`crate::robot`].
 
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 use crate::facets::sweep;
+use crate::keys::{joint_index, key_times, track, wave};
 use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
@@ -66,10 +67,6 @@ fn skeleton() -> Vec<RJoint> {
     joints
 }
 
-fn find(joints: &[RJoint], name: &str) -> u16 {
-    joints.iter().position(|j| j.name == name).unwrap_or_else(|| panic!("no joint {name}")) as u16
-}
-
 /// Weights of two joints by a coordinate `s` between the "centres" of a chain of bones, `chain`
 /// being `(joint, centre)` in increasing order of centre: inside a bone's centre and the next's
 /// the two blend linearly, outside the first or last the end bone has it all. The blend is
@@ -97,7 +94,7 @@ pub fn chain_weights(chain: &[(u16, f32)], s: f32) -> ([u16; 4], [f32; 4]) {
 /// The animal.
 pub fn critter() -> Design {
     let joints = skeleton();
-    let j = |name: &str| find(&joints, name);
+    let j = |name: &str| joint_index(&joints, name) as u16;
     let at = |name: &str| joints[j(name) as usize].head;
     let tail = tail_points();
 
@@ -211,17 +208,11 @@ pub fn critter() -> Design {
 }
 
 fn clips(joints: &[RJoint]) -> Vec<RClip> {
-    let j = |name: &str| find(joints, name) as usize;
-    let wave = |t: f32, period: f32| sin_cos(std::f32::consts::TAU * t / period).0;
-    let track =
-        |joint: usize, f: &dyn Fn(f32) -> Quat, ts: &[f32]| (joint, ts.iter().map(|&t| f(t)).collect());
-    let times = |duration: f32, keys: usize| {
-        (0..=keys).map(|k| duration * k as f32 / keys as f32).collect::<Vec<f32>>()
-    };
+    let j = |name: &str| joint_index(joints, name);
 
     // The gallop: hind legs together (a little apart), then the front legs half a stride later.
     const STRIDE: f32 = 0.6;
-    let run_times = times(STRIDE, 24);
+    let run_times = key_times(STRIDE, 24);
     let mut run = Vec::new();
     for (suffix, phase) in [("BL", 0.0), ("BR", 0.06), ("FL", 0.5), ("FR", 0.56)] {
         let back = suffix.starts_with('B');
@@ -261,7 +252,7 @@ fn clips(joints: &[RJoint]) -> Vec<RClip> {
     }
     let run = RClip { name: "Run", rotations: run, weights: Vec::new(), times: run_times };
 
-    let idle_times = times(3.0, 36);
+    let idle_times = key_times(3.0, 36);
     let rise = |t: f32| 0.5 - 0.5 * sin_cos(std::f32::consts::TAU * t / 3.0).1;
     let mut idle = vec![
         track(j("Spine1"), &|t| turn(Vec3::X, 2.0 * wave(t, 1.5)), &idle_times),

@@ -15,6 +15,7 @@
 use glam::{Quat, Vec3};
 
 use crate::critter::chain_weights;
+use crate::keys::{joint_index, key_times, track, wave};
 use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
@@ -95,10 +96,6 @@ fn skeleton() -> Vec<RJoint> {
     joints
 }
 
-fn find(joints: &[RJoint], name: &str) -> u16 {
-    joints.iter().position(|j| j.name == name).unwrap_or_else(|| panic!("no joint {name}")) as u16
-}
-
 /// A closed smooth limb from `a` to `b` with hemispherical ends: its radius at `t ∈ [0, 1]` along
 /// it is `radius(t)` across the frame's `x` ([`frame_about`]) and `flat` times that across its
 /// `z`; about `triangles` triangles.
@@ -158,7 +155,7 @@ impl Skinned {
 /// The character.
 pub fn fingers() -> Design {
     let joints = skeleton();
-    let j = |name: &str| find(&joints, name);
+    let j = |name: &str| joint_index(&joints, name) as u16;
     let at = |name: &str| joints[j(name) as usize].head;
     let mid = |a: &str, b: &str| 0.5 * (at(a).y + at(b).y);
     let (mut skin, mut trousers, mut shoes, mut eyes) =
@@ -279,13 +276,7 @@ pub fn fingers() -> Design {
 }
 
 fn clips(joints: &[RJoint]) -> Vec<RClip> {
-    let j = |name: &str| find(joints, name) as usize;
-    let wave = |t: f32, period: f32| sin_cos(std::f32::consts::TAU * t / period).0;
-    let track =
-        |joint: usize, f: &dyn Fn(f32) -> Quat, ts: &[f32]| (joint, ts.iter().map(|&t| f(t)).collect());
-    let times = |duration: f32, keys: usize| {
-        (0..=keys).map(|k| duration * k as f32 / keys as f32).collect::<Vec<f32>>()
-    };
+    let j = |name: &str| joint_index(joints, name);
     // Fingers curl towards the palm, which faces the thigh in the A-pose: about −Z on the left
     // hand, +Z on the right; the thumb folds across the palm about the arm's direction.
     let curl = |side: f32, finger: usize, degrees: f32| {
@@ -311,7 +302,7 @@ fn clips(joints: &[RJoint]) -> Vec<RClip> {
     };
 
     const STRIDE: f32 = 1.0;
-    let walk_times = times(STRIDE, 24);
+    let walk_times = key_times(STRIDE, 24);
     let mut walk = Vec::new();
     for (side, name, phase) in [(1.0f32, "Left", 0.0f32), (-1.0, "Right", 0.5)] {
         let swing = move |t: f32| wave(t + phase * STRIDE, STRIDE);
@@ -339,7 +330,7 @@ fn clips(joints: &[RJoint]) -> Vec<RClip> {
     let walk = RClip { name: "Walk", rotations: walk, weights: Vec::new(), times: walk_times };
 
     // Both hands reach forward and close to fists, then open again.
-    let grab_times = times(2.0, 32);
+    let grab_times = key_times(2.0, 32);
     let closed = |t: f32| 0.5 - 0.5 * sin_cos(std::f32::consts::TAU * t / 2.0).1;
     let mut grab = Vec::new();
     for (side, name) in [(1.0f32, "Left"), (-1.0, "Right")] {
@@ -355,7 +346,7 @@ fn clips(joints: &[RJoint]) -> Vec<RClip> {
 
     // The right arm raised, the forearm and hand waving, the fingers stretched and bending back
     // by turns; the left hand half closed.
-    let wave_times = times(2.0, 32);
+    let wave_times = key_times(2.0, 32);
     let mut waving = vec![
         track(j("RightArm"), &|_| turn(Vec3::Z, -100.0), &wave_times),
         track(j("RightForeArm"), &|t| turn(Vec3::Z, 25.0 + 20.0 * wave(t, 0.5)), &wave_times),

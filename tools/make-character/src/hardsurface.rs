@@ -11,8 +11,9 @@
 //!
 //! Joints carry no rest rotation, as in [`crate::robot`]; units metres, +Z forward, Y up.
 
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
+use crate::keys::{joint_index, key_times, track, wave};
 use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
@@ -42,10 +43,6 @@ fn skeleton() -> Vec<RJoint> {
         add(format!("Foot{side}"), Some(lower), Vec3::new(s * 0.13, 0.1, -0.03));
     }
     joints
-}
-
-fn find(joints: &[RJoint], name: &str) -> u16 {
-    joints.iter().position(|j| j.name == name).unwrap_or_else(|| panic!("no joint {name}")) as u16
 }
 
 /// How a part is skinned: rigidly to one joint, to two joints with constant weights, or from the
@@ -119,7 +116,7 @@ impl Parts {
 /// The robot; `detail` scales every part's triangle count.
 pub fn hardsurface(detail: f64) -> Design {
     let joints = skeleton();
-    let j = |name: &str| find(&joints, name);
+    let j = |name: &str| joint_index(&joints, name) as u16;
     let head = |name: &str| joints[j(name) as usize].head;
     let mut parts = Parts { detail: detail as f32, primitives: Vec::new(), materials: Vec::new() };
     let p = &mut parts;
@@ -476,11 +473,8 @@ pub fn hardsurface(detail: f64) -> Design {
 }
 
 fn clips(joints: &[RJoint]) -> Vec<RClip> {
-    let j = |name: &str| find(joints, name) as usize;
-    let wave = |t: f32, period: f32| sin_cos(std::f32::consts::TAU * t / period).0;
-    let track =
-        |joint: usize, f: &dyn Fn(f32) -> Quat, ts: &[f32]| (joint, ts.iter().map(|&t| f(t)).collect());
-    let walk_times: Vec<f32> = (0..=24).map(|k| 1.2 * k as f32 / 24.0).collect();
+    let j = |name: &str| joint_index(joints, name);
+    let walk_times = key_times(1.2, 24);
     let walk = RClip {
         name: "Walk",
         rotations: vec![

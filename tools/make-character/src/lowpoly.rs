@@ -8,10 +8,11 @@
 //! copies of a position moving together); clips `Walk` (1 s), `Chatter` (2 s: the three weights,
 //! head and an arm wave) and `Idle` (3 s), all LINEAR.
 
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 use crate::facets::{along, ball, sweep, tented_box};
-use crate::math::{axis_angle, deg, sin_cos};
+use crate::keys::{joint_index, key_times, track, wave};
+use crate::math::{sin_cos, turn};
 use crate::robot::{Design, RClip, RJoint, RMesh, RPrimitive};
 use crate::shapes::Shape;
 
@@ -77,10 +78,6 @@ fn skeleton() -> Vec<RJoint> {
         add(format!("Toe{side}"), Some(foot), Vec3::new(s * 0.14, 0.04, 0.15));
     }
     joints
-}
-
-fn find(joints: &[RJoint], name: &str) -> usize {
-    joints.iter().position(|j| j.name == name).unwrap_or_else(|| panic!("no joint {name}"))
 }
 
 /// A tube from `a` to `b` of `rings` rings whose radius follows `profile(t)` (times `(rx, ry)`),
@@ -151,7 +148,7 @@ impl MeshParts {
 /// The robot.
 pub fn lowpoly_robot() -> Design {
     let joints = skeleton();
-    let j = |name: &str| find(&joints, name);
+    let j = |name: &str| joint_index(&joints, name);
     let at = |name: &str| joints[j(name)].head;
     let is_head = |name: &str| matches!(name, "Head" | "Jaw" | "EyeL" | "EyeR" | "AntennaL" | "AntennaR");
     let body_skin: Vec<usize> = (0..joints.len()).filter(|&i| !is_head(&joints[i].name)).collect();
@@ -323,21 +320,10 @@ fn add_face_targets(primitives: &mut [RPrimitive], skull: Vec3) {
     }
 }
 
-/// Local rotation about model axis `axis` by `degrees`.
-fn turn(axis: Vec3, degrees: f32) -> Quat {
-    axis_angle(axis.normalize(), deg(degrees))
-}
-
 fn clips(joints: &[RJoint], head_mesh: usize) -> Vec<RClip> {
-    let j = |name: &str| find(joints, name);
-    let wave = |t: f32, period: f32| sin_cos(std::f32::consts::TAU * t / period).0;
-    let track =
-        |joint: usize, f: &dyn Fn(f32) -> Quat, ts: &[f32]| (joint, ts.iter().map(|&t| f(t)).collect());
-    let times = |duration: f32, keys: usize| {
-        (0..=keys).map(|k| duration * k as f32 / keys as f32).collect::<Vec<f32>>()
-    };
+    let j = |name: &str| joint_index(joints, name);
 
-    let walk_times = times(1.0, 20);
+    let walk_times = key_times(1.0, 20);
     let mut walk = vec![
         track(j("UpperLegL"), &|t| turn(Vec3::X, -32.0 * wave(t, 1.0)), &walk_times),
         track(j("UpperLegR"), &|t| turn(Vec3::X, 32.0 * wave(t, 1.0)), &walk_times),
@@ -363,7 +349,7 @@ fn clips(joints: &[RJoint], head_mesh: usize) -> Vec<RClip> {
     }
     let walk = RClip { name: "Walk", rotations: walk, weights: Vec::new(), times: walk_times };
 
-    let chatter_times = times(2.0, 40);
+    let chatter_times = key_times(2.0, 40);
     // 0 → 1 → 0 over the clip.
     let rise = |t: f32| 0.5 - 0.5 * sin_cos(std::f32::consts::TAU * t / 2.0).1;
     let mut weights = Vec::new();
@@ -396,7 +382,7 @@ fn clips(joints: &[RJoint], head_mesh: usize) -> Vec<RClip> {
         times: chatter_times,
     };
 
-    let idle_times = times(3.0, 30);
+    let idle_times = key_times(3.0, 30);
     let idle = RClip {
         name: "Idle",
         rotations: vec![

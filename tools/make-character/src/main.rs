@@ -29,6 +29,7 @@ mod field;
 mod fingers;
 mod glb;
 mod hardsurface;
+mod keys;
 mod lowpoly;
 mod math;
 mod mesher;

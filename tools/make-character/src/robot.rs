@@ -12,7 +12,8 @@
 
 use glam::{Quat, Vec3};
 
-use crate::math::{axis_angle, deg, sin_cos};
+use crate::keys::{joint_index, key_times, track, wave};
+use crate::math::{deg, sin_cos, turn};
 use crate::shapes::{ball, block, prism, shell, Shape};
 
 /// One joint at rest: name, parent, model-space head.
@@ -119,10 +120,6 @@ fn skeleton() -> Vec<RJoint> {
     joints
 }
 
-fn find(joints: &[RJoint], name: &str) -> usize {
-    joints.iter().position(|j| j.name == name).unwrap_or_else(|| panic!("no joint {name}"))
-}
-
 /// A rigid primitive on skin-local joint `joint`.
 pub fn rigid(shape: Shape, joint: u16, material: usize) -> RPrimitive {
     let joints = vec![[joint, 0, 0, 0]; shape.positions.len()];
@@ -213,22 +210,9 @@ fn face_plate(head: u16) -> RPrimitive {
     prim
 }
 
-/// Local rotation of a joint about model axis `axis` by `degrees`.
-fn turn(axis: Vec3, degrees: f32) -> Quat {
-    axis_angle(axis.normalize(), deg(degrees))
-}
-
-/// Key times: `count + 1` keys over `duration` seconds.
-fn times(duration: f32, count: usize) -> Vec<f32> {
-    (0..=count).map(|k| duration * k as f32 / count as f32).collect()
-}
-
 fn clips(joints: &[RJoint], face_mesh: usize) -> Vec<RClip> {
-    let j = |name: &str| find(joints, name);
-    let wave = |t: f32, period: f32| sin_cos(std::f32::consts::TAU * t / period).0;
-    let walk_times = times(1.2, 24);
-    let track =
-        |joint: usize, f: &dyn Fn(f32) -> Quat, ts: &[f32]| (joint, ts.iter().map(|&t| f(t)).collect());
+    let j = |name: &str| joint_index(joints, name);
+    let walk_times = key_times(1.2, 24);
     let walk = RClip {
         name: "Walk",
         rotations: vec![
@@ -243,7 +227,7 @@ fn clips(joints: &[RJoint], face_mesh: usize) -> Vec<RClip> {
         weights: Vec::new(),
         times: walk_times.clone(),
     };
-    let talk_times = times(2.0, 40);
+    let talk_times = key_times(2.0, 40);
     let mut weights = Vec::new();
     for &t in &talk_times {
         // Smile, Blink (a quick blink at 1 s), Open (speech rhythm).
@@ -259,7 +243,7 @@ fn clips(joints: &[RJoint], face_mesh: usize) -> Vec<RClip> {
         weights: vec![(face_mesh, weights)],
         times: talk_times.clone(),
     };
-    let grab_times = times(1.5, 30);
+    let grab_times = key_times(1.5, 30);
     let mut grab_rotations = vec![
         track(
             j("UpperArmR"),
@@ -294,7 +278,7 @@ fn clips(joints: &[RJoint], face_mesh: usize) -> Vec<RClip> {
 /// The flat-shaded robot.
 pub fn robot() -> Design {
     let joints = skeleton();
-    let j = |name: &str| find(&joints, name);
+    let j = |name: &str| joint_index(&joints, name);
     let head_of = |name: &str| joints[j(name)].head;
     // Skins: body (everything but hands and fingers, and the face bones), hands, face.
     let is_hand = |name: &str| name.starts_with("Hand") || name.starts_with("Finger");
